@@ -1,0 +1,48 @@
+// Non-template parts of the rotation algebra: the log map R -> phi, rescaling of rotation
+// vectors to |phi| <= pi, and Cardan angles of a matrix.
+#include "core/rotation.hpp"
+
+#include <algorithm>
+
+namespace latticedyn {
+
+Vec3 rotation_vector(const Mat3& R) {
+  // v = sin(theta) n from the skew part, cos(theta) from the trace; atan2 keeps theta accurate
+  // over the whole range, where acos or asin alone lose digits near 0 or pi.
+  const Vec3 v = unskew<double>(R);
+  const double s = v.norm();
+  const double c = std::clamp(0.5 * (R.trace() - 1.0), -1.0, 1.0);
+  const double theta = std::atan2(s, c);
+  if (theta < 1e-4) {
+    // theta / sin(theta) = 1 + theta^2/6 + 7 theta^4/360 + ...
+    const double t2 = theta * theta;
+    return v * (1.0 + t2 / 6.0 + 7.0 * t2 * t2 / 360.0);
+  }
+  if (theta < std::numbers::pi - 1e-3) return v * (theta / s);
+  // Near pi the skew part vanishes; the axis comes from the symmetric part
+  // (R + R^T)/2 - cos(theta) I = (1 - cos(theta)) n n^T, read off its largest column.
+  const Mat3 B = 0.5 * (R + R.transpose()) - c * Mat3::Identity();
+  int k = 0;
+  B.diagonal().maxCoeff(&k);
+  Vec3 n = B.col(k) / std::sqrt(std::max(B(k, k) * (1.0 - c), 1e-300));
+  n.normalize();
+  if (n.dot(v) < 0.0) n = -n;  // sin(theta) >= 0 on [0, pi]: v points along +n
+  return theta * n;
+}
+
+Vec3 rescaled_rotation_vector(const Vec3& phi) {
+  const double theta = phi.norm();
+  if (theta <= std::numbers::pi) return phi;
+  const double two_pi = 2.0 * std::numbers::pi;
+  const double reduced = theta - two_pi * std::round(theta / two_pi);
+  return phi * (reduced / theta);
+}
+
+Vec3 cardan_zyx_angles(const Mat3& R) {
+  const double psi = -std::asin(std::clamp(R(2, 0), -1.0, 1.0));
+  const double phi = std::atan2(R(2, 1), R(2, 2));
+  const double theta = std::atan2(R(1, 0), R(0, 0));
+  return Vec3(phi, psi, theta);
+}
+
+}  // namespace latticedyn
