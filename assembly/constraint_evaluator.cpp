@@ -1,0 +1,129 @@
+// Nested forward AD over the constraint kernels: the inner level differentiates g with respect to
+// right perturbations delta of the free blocks (giving G), the outer level differentiates those
+// with respect to a second perturbation eps applied before delta (giving dG/dq and Gamma).
+#include "assembly/constraint_evaluator.hpp"
+
+#include "assembly/constraint_kernels.hpp"
+#include "core/rotation.hpp"
+
+#include <unsupported/Eigen/AutoDiff>
+
+namespace latticedyn {
+
+namespace {
+
+constexpr int kVars = ConstraintEval::kMaxCols + 1;  // 12 block directions + the drive value u
+constexpr int kU = ConstraintEval::kMaxCols;
+using Inner = Eigen::AutoDiffScalar<Eigen::Matrix<double, kVars, 1>>;
+using Outer = Eigen::AutoDiffScalar<Eigen::Matrix<Inner, kVars, 1>>;
+
+Inner inner_var(double v, int i) { return Inner(v, kVars, i); }
+Outer outer_const(const Inner& v) { return Outer(v); }
+// A variable of both levels: value v, d/d(delta_i) = 1 and d/d(eps_i) = 1, mixed derivative 0.
+Outer both_var(double v, int i) {
+  Outer x(inner_var(v, i));
+  x.derivatives()(i) = Inner(1.0);
+  return x;
+}
+
+template <class S>
+void frame_of(const Joint& j, const Vec3T<S>& r, const Mat3T<S>* R, Vec3T<S>& pos, Mat3T<S>& rot) {
+  if (R) {
+    pos = r + (*R) * cast_to<S>(j.offset);
+    rot = (*R) * cast_to<S>(j.frame);
+  } else {
+    pos = r;
+    rot = cast_to<S>(j.frame);
+  }
+}
+
+}  // namespace
+
+void joint_frame(const Joint& j, const BlockState& t, const BlockState* r, Vec3& pos, Mat3& rot) {
+  frame_of<double>(j, t.pos, r ? &r->rot : nullptr, pos, rot);
+}
+
+ConstraintEval evaluate_constraint(const ConstraintInputs& in) {
+  const Model& model = *in.model;
+  const Constraint& c = *in.constraint;
+  const Joint* joints[2] = {&model.joints[c.joint1], &model.joints[c.joint2]};
+  ConstraintEval out;
+  out.rows = c.rows();
+
+  // Distinct free blocks of both joints get 3 seed directions each, in order of appearance.
+  auto column_of = [&](int block) -> int {
+    if (block < 0 || model.blocks[block].fixed) return -1;
+    for (int k = 0; k < 4; ++k) {
+      if (out.blocks[k] == block) return 3 * k;
+      if (out.blocks[k] < 0) {
+        out.blocks[k] = block;
+        out.cols = 3 * (k + 1);
+        return 3 * k;
+      }
+    }
+    return -1;
+  };
+
+  JointPairFrames<Outer> f;
+  for (int side = 0; side < 2; ++side) {
+    const Joint& j = *joints[side];
+    const BlockState& ts = in.block_state(j.translation_block);
+    Vec3T<Outer> r;
+    const int ct = column_of(j.translation_block);
+    for (int i = 0; i < 3; ++i) r(i) = ct >= 0 ? both_var(ts.pos(i), ct + i) : outer_const(Inner(ts.pos(i)));
+    Mat3T<Outer> R;
+    const Mat3T<Outer>* Rp = nullptr;
+    if (j.rotation_block >= 0) {
+      const BlockState& rs = in.block_state(j.rotation_block);
+      const int cr = column_of(j.rotation_block);
+      R = rs.rot.cast<Inner>().cast<Outer>();
+      if (cr >= 0) {
+        // R (I + skew(eps)) (I + skew(delta)): first order in each, with the eps-delta cross term.
+        Vec3T<Outer> eps, delta;
+        for (int i = 0; i < 3; ++i) {
+          eps(i) = Outer(Inner(0.0));
+          eps(i).derivatives()(cr + i) = Inner(1.0);
+          delta(i) = outer_const(inner_var(0.0, cr + i));
+        }
+        R = R * (Mat3T<Outer>::Identity() + skew(eps)) * (Mat3T<Outer>::Identity() + skew(delta));
+      }
+      Rp = &R;
+    }
+    frame_of<Outer>(j, r, Rp, side == 0 ? f.r1 : f.r2, side == 0 ? f.R1 : f.R2);
+  }
+
+  const Outer u = both_var(in.drive.value, kU);
+  Outer g[ConstraintEval::kMaxRows];
+  constraint_values<Outer>(c, f, u, g);
+
+  const int m = out.rows, n = out.cols;
+  Eigen::Matrix<double, ConstraintEval::kMaxCols, 1> v = Eigen::Matrix<double, ConstraintEval::kMaxCols, 1>::Zero();
+  for (int k = 0; k < 4 && out.blocks[k] >= 0; ++k) v.segment<3>(3 * k) = in.block_state(out.blocks[k]).vel;
+
+  for (int r = 0; r < m; ++r) {
+    const Inner& val = g[r].value();
+    out.g(r) = val.value();
+    for (int k = 0; k < n; ++k) out.G(r, k) = val.derivatives()(k);
+    out.g_u(r) = val.derivatives()(kU);
+    // dG(r, k)/d(eps_l) is the delta_k-derivative of the eps_l-derivative.
+    if (in.lambda)
+      for (int l = 0; l < n; ++l)
+        for (int k = 0; k < n; ++k) out.H(k, l) += in.lambda[r] * g[r].derivatives()(l).derivatives()(k);
+    if (in.with_velocity_terms) {
+      const double ud = in.drive.rate, udd = in.drive.accel;
+      double gamma = 0.0, dGdu_v = 0.0;
+      for (int l = 0; l < n; ++l) {
+        const auto& dl = g[r].derivatives()(l).derivatives();
+        for (int k = 0; k < n; ++k) gamma += dl(k) * v(k) * v(l);
+      }
+      const auto& du = g[r].derivatives()(kU).derivatives();
+      for (int k = 0; k < n; ++k) dGdu_v += du(k) * v(k);
+      gamma += 2.0 * dGdu_v * ud + du(kU) * ud * ud + out.g_u(r) * udd;
+      out.gamma(r) = gamma;
+      out.g_dot(r) = out.G.row(r).head(n).dot(v.head(n)) + out.g_u(r) * ud;
+    }
+  }
+  return out;
+}
+
+}  // namespace latticedyn

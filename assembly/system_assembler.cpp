@@ -1,0 +1,562 @@
+// Global residual and Jacobian assembly. Each rank gathers the coordinates its elements, loads and
+// constraints read (one VecScatter), evaluates them in the blocks' velocity variables, maps the
+// results to the stored coordinates through the rotation chain rule, and adds them into the
+// global vector (reverse scatter) and matrix (MatSetValues, ADD_VALUES).
+#include "assembly/system_assembler.hpp"
+
+#include "assembly/nodal_load.hpp"
+#include "core/rotation.hpp"
+
+#include <petscvec.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace latticedyn {
+
+namespace {
+
+using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+// Offset transform of a rotation slot: element frame = block frame * O, so the element's rotation
+// rows and columns are rotated by O into the block frame.
+void to_block_frame(const ElementEntry& entry, ElementTangents& t) {
+  const auto kinds = entry.element->slots();
+  int o = 0;
+  for (std::size_t k = 0; k < kinds.size(); ++k) {
+    const int n = slot_size(kinds[k]);
+    const Mat3& O = entry.slots[k].offset;
+    if (kinds[k] == SlotKind::rotation && !O.isIdentity(0.0)) {
+      t.residual.segment<3>(o) = O * t.residual.segment<3>(o).eval();
+      for (MatX* m : {&t.K, &t.C, &t.M}) {
+        m->middleRows<3>(o) = O * m->middleRows<3>(o).eval();
+        m->middleCols<3>(o) = m->middleCols<3>(o).eval() * O.transpose();
+      }
+    }
+    o += n;
+  }
+}
+
+}  // namespace
+
+SystemAssembler::SystemAssembler(const Model& model, MPI_Comm comm)
+    : model_(model), comm_(comm), dofs_(model, [&] {
+        int r = 0;
+        MPI_Comm_rank(comm, &r);
+        return r;
+      }(), [&] {
+        int s = 1;
+        MPI_Comm_size(comm, &s);
+        return s;
+      }()) {
+  const int nb = static_cast<int>(model_.blocks.size());
+  const int nc = static_cast<int>(model_.constraints.size());
+  local_block_offset_.assign(nb, -1);
+  local_multiplier_offset_.assign(nc, -1);
+  std::vector<PetscInt> global_index;
+  for (int b : dofs_.needed_blocks()) {
+    local_block_offset_[b] = static_cast<int>(global_index.size());
+    for (int i = 0; i < model_.blocks[b].size(); ++i) global_index.push_back(dofs_.block_dof(b) + i);
+  }
+  for (int c : dofs_.local_constraints()) {
+    local_multiplier_offset_[c] = static_cast<int>(global_index.size());
+    for (int i = 0; i < model_.constraints[c].rows(); ++i) global_index.push_back(dofs_.multiplier_dof(c) + i);
+  }
+  local_size_ = static_cast<int>(global_index.size());
+
+  PetscCallAbort(comm_, VecCreateMPI(comm_, dofs_.owned_size(), dofs_.global_size(), &global_template_));
+  for (Vec* v : {&u_loc_, &v_loc_, &a_loc_, &uc_loc_, &r_loc_})
+    PetscCallAbort(PETSC_COMM_SELF, VecCreateSeq(PETSC_COMM_SELF, local_size_, v));
+  IS from;
+  PetscCallAbort(PETSC_COMM_SELF, ISCreateGeneral(PETSC_COMM_SELF, local_size_, global_index.data(), PETSC_COPY_VALUES, &from));
+  PetscCallAbort(comm_, VecScatterCreate(global_template_, from, u_loc_, nullptr, &to_local_));
+  PetscCallAbort(PETSC_COMM_SELF, ISDestroy(&from));
+
+  // Fixed blocks never change: their state is set once.
+  state_.resize(nb);
+  state_c_.resize(nb);
+  chain_.resize(nb);
+  chain_c_.resize(nb);
+  rows_T_.assign(nb, Mat3::Identity());
+  phi_.assign(nb, Vec3::Zero());
+  for (int b = 0; b < nb; ++b) {
+    block_kinematics(model_.blocks[b], nullptr, nullptr, nullptr, Parametrization::rotation_vector_rates, state_[b]);
+    state_c_[b] = state_[b];
+  }
+  estimate_scales();
+}
+
+SystemAssembler::~SystemAssembler() {
+  VecScatterDestroy(&to_local_);
+  for (Vec* v : {&global_template_, &u_loc_, &v_loc_, &a_loc_, &uc_loc_, &r_loc_}) VecDestroy(v);
+}
+
+void SystemAssembler::estimate_scales() {
+  // Mean diagonal mass and stiffness of the translational DoFs at the initial state (state_ holds
+  // every block's initial state here), over all elements: the same numbers on every rank.
+  double mass = 0.0, stiffness = 0.0;
+  int count = 0;
+  const ElementContext ctx{model_.gravity, 0.0};
+  ElementTangents t;
+  for (std::size_t e = 0; e < model_.elements.size(); ++e) {
+    const ElementEntry& entry = model_.elements[e];
+    const auto kinds = entry.element->slots();
+    std::vector<SlotState<double>> s;
+    gather_slots(entry, state_, s);
+    entry.element->tangents(s, ctx, t);
+    int o = 0;
+    for (std::size_t k = 0; k < kinds.size(); ++k) {
+      if (kinds[k] == SlotKind::translation)
+        for (int i = 0; i < 3; ++i) {
+          mass += std::abs(t.M(o + i, o + i));
+          stiffness += std::abs(t.K(o + i, o + i));
+          ++count;
+        }
+      o += slot_size(kinds[k]);
+    }
+  }
+  if (count > 0) {
+    mass_scale_ = mass / count;
+    stiffness_scale_ = stiffness / count;
+  }
+  if (!(mass_scale_ > 0)) mass_scale_ = 1.0;
+  if (!(stiffness_scale_ > 0)) stiffness_scale_ = mass_scale_ * std::max(model_.gravity.norm(), 1.0);
+}
+
+PetscErrorCode SystemAssembler::create_vector(Vec* v) const {
+  PetscFunctionBeginUser;
+  PetscCall(VecDuplicate(global_template_, v));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SystemAssembler::create_matrix(Mat* m) const {
+  PetscFunctionBeginUser;
+  std::vector<int> d, o;
+  dofs_.count_nonzeros(d, o);
+  std::vector<PetscInt> dn(d.begin(), d.end()), on(o.begin(), o.end());
+  PetscCall(MatCreate(comm_, m));
+  PetscCall(MatSetSizes(*m, dofs_.owned_size(), dofs_.owned_size(), dofs_.global_size(), dofs_.global_size()));
+  PetscCall(MatSetType(*m, MATAIJ));
+  PetscCall(MatSetFromOptions(*m));
+  PetscCall(MatSeqAIJSetPreallocation(*m, 0, dn.data()));
+  PetscCall(MatMPIAIJSetPreallocation(*m, 0, dn.data(), 0, on.data()));
+  PetscCall(MatSetOption(*m, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SystemAssembler::initial_state(Vec U, Vec V) const {
+  PetscFunctionBeginUser;
+  PetscCall(VecZeroEntries(U));
+  PetscCall(VecZeroEntries(V));
+  PetscScalar *u, *v;
+  PetscCall(VecGetArray(U, &u));
+  PetscCall(VecGetArray(V, &v));
+  const int lo = dofs_.owned_begin();
+  for (std::size_t b = 0; b < model_.blocks.size(); ++b) {
+    const DofBlock& blk = model_.blocks[b];
+    if (blk.fixed || dofs_.block_owner(static_cast<int>(b)) != dofs_.rank()) continue;
+    const int g = dofs_.block_dof(static_cast<int>(b)) - lo;
+    for (int i = 0; i < blk.size(); ++i) {
+      // Rotation coordinates start at phi = 0, where phi_dot = T(0)^{-1} omega = omega.
+      u[g + i] = blk.kind == SlotKind::rotation ? 0.0 : blk.position0(i);
+      v[g + i] = blk.velocity0(i);
+    }
+  }
+  PetscCall(VecRestoreArray(U, &u));
+  PetscCall(VecRestoreArray(V, &v));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SystemAssembler::scatter_in(const EvaluationPoint& at) {
+  PetscFunctionBeginUser;
+  have_v_ = at.V != nullptr;
+  have_a_ = at.A != nullptr;
+  separate_uc_ = at.Uc != nullptr && at.Uc != at.U;
+  const std::pair<Vec, Vec> pairs[] = {{at.U, u_loc_}, {at.V, v_loc_}, {at.A, a_loc_}, {separate_uc_ ? at.Uc : nullptr, uc_loc_}};
+  for (const auto& [global, local] : pairs) {
+    if (!global) continue;
+    PetscCall(VecScatterBegin(to_local_, global, local, INSERT_VALUES, SCATTER_FORWARD));
+    PetscCall(VecScatterEnd(to_local_, global, local, INSERT_VALUES, SCATTER_FORWARD));
+  }
+  PetscFunctionReturn(0);
+}
+
+void SystemAssembler::compute_states(const EvaluationSettings& how, bool with_chain, double cq, double cv, double ca) {
+  const PetscScalar *u, *v = nullptr, *a = nullptr, *uc = nullptr;
+  VecGetArrayRead(u_loc_, &u);
+  if (have_v_) VecGetArrayRead(v_loc_, &v);
+  if (have_a_) VecGetArrayRead(a_loc_, &a);
+  if (separate_uc_) VecGetArrayRead(uc_loc_, &uc);
+  const bool rates = how.param == Parametrization::rotation_vector_rates;
+  for (int b : dofs_.needed_blocks()) {
+    const int o = local_offset(b);
+    const DofBlock& blk = model_.blocks[b];
+    block_kinematics(blk, u + o, v ? v + o : nullptr, a ? a + o : nullptr, how.param, state_[b],
+                     with_chain ? &chain_[b] : nullptr, cq, cv, ca);
+    if (blk.kind == SlotKind::rotation) {
+      phi_[b] = Vec3(u[o], u[o + 1], u[o + 2]);
+      rows_T_[b] = rates ? Mat3(tangent_operator(phi_[b]).transpose()) : Mat3::Identity();
+    }
+    if (separate_uc_) {
+      block_kinematics(blk, uc + o, nullptr, nullptr, how.param, state_c_[b], with_chain ? &chain_c_[b] : nullptr, cq, cv, ca);
+    } else {
+      state_c_[b] = state_[b];
+      if (with_chain) chain_c_[b] = chain_[b];
+    }
+  }
+  VecRestoreArrayRead(u_loc_, &u);
+  if (have_v_) VecRestoreArrayRead(v_loc_, &v);
+  if (have_a_) VecRestoreArrayRead(a_loc_, &a);
+  if (separate_uc_) VecRestoreArrayRead(uc_loc_, &uc);
+}
+
+PetscErrorCode SystemAssembler::residual(const EvaluationPoint& at, const EvaluationSettings& how, Vec F, PetscBool* finite) {
+  PetscFunctionBeginUser;
+  PetscCall(scatter_in(at));
+  compute_states(how, false, 1.0, 0.0, 0.0);
+
+  const PetscScalar* uc;
+  PetscCall(VecGetArrayRead(separate_uc_ ? uc_loc_ : u_loc_, &uc));
+  PetscScalar* r;
+  PetscCall(VecZeroEntries(r_loc_));
+  PetscCall(VecGetArray(r_loc_, &r));
+
+  const ElementContext ctx{how.load_scale * model_.gravity, at.t};
+  VecX re;
+  std::vector<SlotState<double>> slots;
+  for (int e : dofs_.local_elements()) {
+    const ElementEntry& entry = model_.elements[e];
+    const auto kinds = entry.element->slots();
+    gather_slots(entry, state_, slots);
+    re.resize(entry.element->num_dofs());
+    entry.element->residual(slots, ctx, re);
+    int o = 0;
+    for (std::size_t k = 0; k < kinds.size(); ++k) {
+      const int n = slot_size(kinds[k]);
+      const int lo = local_offset(entry.slots[k].block);
+      if (lo >= 0) {
+        if (kinds[k] == SlotKind::rotation) {
+          const Vec3 rb = entry.slots[k].offset * re.segment<3>(o);
+          for (int i = 0; i < 3; ++i) r[lo + i] += rb(i);
+        } else {
+          for (int i = 0; i < n; ++i) r[lo + i] += re(o + i);
+        }
+      }
+      o += n;
+    }
+  }
+
+  auto state_of = [this](int b) -> const BlockState& { return state_[b]; };
+  auto state_c_of = [this](int b) -> const BlockState& { return state_c_[b]; };
+  for (int l : dofs_.local_loads()) {
+    const NodalLoad& load = model_.loads[l];
+    const double scale = how.load_scale * (load.drive >= 0 ? model_.drives[load.drive].evaluate(at.t).value : 1.0);
+    const LoadEval le = evaluate_load(model_, load, state_of, scale, false);
+    for (int k = 0; k < 2; ++k)
+      if (le.blocks[k] >= 0) {
+        const int lo = local_offset(le.blocks[k]);
+        for (int i = 0; i < 3; ++i) r[lo + i] -= le.f(3 * k + i);
+      }
+  }
+
+  for (int c : dofs_.local_constraints()) {
+    const Constraint& con = model_.constraints[c];
+    const int mo = local_multiplier_offset_[c];
+    ConstraintInputs in;
+    in.model = &model_;
+    in.constraint = &con;
+    in.block_state = state_of;
+    in.drive = con.drive >= 0 ? model_.drives[con.drive].evaluate(at.t) : DriveValue{};
+    in.with_velocity_terms = how.rows == ConstraintRows::acceleration;
+    const ConstraintEval ce = evaluate_constraint(in);
+    for (int k = 0; k < 4 && ce.blocks[k] >= 0; ++k) {
+      const int lo = local_offset(ce.blocks[k]);
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < ce.rows; ++j) r[lo + i] += ce.G(j, 3 * k + i) * uc[mo + j];
+    }
+    if (how.rows == ConstraintRows::acceleration) {
+      const double al = how.baumgarte_alpha, be = how.baumgarte_beta;
+      // G a + Gamma* = 0 (4-3, 4-27): the second time derivative of g, stabilised.
+      for (int j = 0; j < ce.rows; ++j) {
+        double ga = 0.0;
+        for (int k = 0; k < 4 && ce.blocks[k] >= 0; ++k) ga += ce.G.block<1, 3>(j, 3 * k).dot(state_[ce.blocks[k]].acc);
+        r[mo + j] = ga + ce.gamma(j) + 2 * al * be * ce.g_dot(j) + al * al * ce.g(j);
+      }
+    } else {
+      ConstraintInputs inc = in;
+      inc.block_state = state_c_of;
+      inc.drive = con.drive >= 0 ? model_.drives[con.drive].evaluate(at.tc) : DriveValue{};
+      inc.with_velocity_terms = false;
+      const ConstraintEval cc = separate_uc_ || at.tc != at.t ? evaluate_constraint(inc) : ce;
+      for (int j = 0; j < ce.rows; ++j) r[mo + j] = how.constraint_scale * cc.g(j);
+    }
+  }
+
+  // Rows of rotation blocks: from omega-variables to phi via T^T (identity for velocity variables).
+  if (how.param == Parametrization::rotation_vector_rates)
+    for (int b : dofs_.needed_blocks())
+      if (model_.blocks[b].kind == SlotKind::rotation) {
+        const int lo = local_offset(b);
+        const Vec3 rb = rows_T_[b] * Vec3(r[lo], r[lo + 1], r[lo + 2]);
+        for (int i = 0; i < 3; ++i) r[lo + i] = rb(i);
+      }
+
+  PetscBool ok = PETSC_TRUE;
+  for (int i = 0; i < local_size_; ++i)
+    if (!std::isfinite(r[i])) {
+      ok = PETSC_FALSE;
+      break;
+    }
+  PetscCall(VecRestoreArray(r_loc_, &r));
+  PetscCall(VecRestoreArrayRead(separate_uc_ ? uc_loc_ : u_loc_, &uc));
+  PetscCall(VecZeroEntries(F));
+  PetscCall(VecScatterBegin(to_local_, r_loc_, F, ADD_VALUES, SCATTER_REVERSE));
+  PetscCall(VecScatterEnd(to_local_, r_loc_, F, ADD_VALUES, SCATTER_REVERSE));
+  if (finite) PetscCall(MPIU_Allreduce(&ok, finite, 1, MPIU_BOOL, MPI_LAND, comm_));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SystemAssembler::jacobian(const EvaluationPoint& at, const EvaluationSettings& how, double cq, double cv,
+                                         double ca, Mat J) {
+  PetscFunctionBeginUser;
+  PetscCall(scatter_in(at));
+  compute_states(how, true, cq, cv, ca);
+  const bool rates = how.param == Parametrization::rotation_vector_rates;
+  const PetscScalar* uc;
+  PetscCall(VecGetArrayRead(separate_uc_ ? uc_loc_ : u_loc_, &uc));
+  PetscCall(MatZeroEntries(J));
+
+  // y: the residual in omega-variables per rotation block, for the derivative of T^T(phi) y.
+  std::vector<Vec3> y(model_.blocks.size(), Vec3::Zero());
+  const ElementContext ctx{how.load_scale * model_.gravity, at.t};
+  ElementTangents t;
+  std::vector<SlotState<double>> slots;
+  std::vector<PetscInt> idx;
+  RowMajor Je;
+
+  // Adds rows_I (cq K col_K_J + C col_C_J + M col_M_J) for every pair of slots.
+  auto chain_block = [&](int bi, int bj, const auto& K, const auto& C, const auto& M) {
+    const int ni = model_.blocks[bi].size(), nj = model_.blocks[bj].size();
+    const BlockChain& ci = chain_[bi];
+    const BlockChain& cj = chain_[bj];
+    return (ci.rows.topLeftCorner(ni, ni) *
+            (cq * K * cj.col_K.topLeftCorner(nj, nj) + C * cj.col_C.topLeftCorner(nj, nj) + M * cj.col_M.topLeftCorner(nj, nj)))
+        .eval();
+  };
+
+  for (int e : dofs_.local_elements()) {
+    const ElementEntry& entry = model_.elements[e];
+    const auto kinds = entry.element->slots();
+    gather_slots(entry, state_, slots);
+    entry.element->tangents(slots, ctx, t);
+    to_block_frame(entry, t);
+    const int n = entry.element->num_dofs();
+    Je.setZero(n, n);
+    idx.assign(n, -1);
+    std::vector<int> offs;
+    int o = 0;
+    for (std::size_t k = 0; k < kinds.size(); ++k) {
+      offs.push_back(o);
+      const int b = entry.slots[k].block;
+      if (!model_.blocks[b].fixed)
+        for (int i = 0; i < slot_size(kinds[k]); ++i) idx[o + i] = dofs_.block_dof(b) + i;
+      if (kinds[k] == SlotKind::rotation) y[b] += t.residual.segment<3>(o);
+      o += slot_size(kinds[k]);
+    }
+    for (std::size_t ki = 0; ki < kinds.size(); ++ki) {
+      const int bi = entry.slots[ki].block;
+      if (model_.blocks[bi].fixed) continue;
+      const int ni = slot_size(kinds[ki]);
+      for (std::size_t kj = 0; kj < kinds.size(); ++kj) {
+        const int bj = entry.slots[kj].block;
+        if (model_.blocks[bj].fixed) continue;
+        const int nj = slot_size(kinds[kj]);
+        Je.block(offs[ki], offs[kj], ni, nj) =
+            chain_block(bi, bj, t.K.block(offs[ki], offs[kj], ni, nj), t.C.block(offs[ki], offs[kj], ni, nj),
+                        t.M.block(offs[ki], offs[kj], ni, nj));
+      }
+    }
+    PetscCall(MatSetValues(J, n, idx.data(), n, idx.data(), Je.data(), ADD_VALUES));
+  }
+
+  auto state_of = [this](int b) -> const BlockState& { return state_[b]; };
+  auto state_c_of = [this](int b) -> const BlockState& { return state_c_[b]; };
+  const Eigen::Matrix3d zero3 = Eigen::Matrix3d::Zero();
+  for (int l : dofs_.local_loads()) {
+    const NodalLoad& load = model_.loads[l];
+    const double scale = how.load_scale * (load.drive >= 0 ? model_.drives[load.drive].evaluate(at.t).value : 1.0);
+    const LoadEval le = evaluate_load(model_, load, state_of, scale, true);
+    if (le.blocks[1] >= 0) y[le.blocks[1]] -= le.f.tail<3>();
+    for (int ki = 0; ki < 2; ++ki)
+      for (int kj = 0; kj < 2; ++kj) {
+        if (le.blocks[ki] < 0 || le.blocks[kj] < 0) continue;
+        const Eigen::Matrix3d K = -le.K.block<3, 3>(3 * ki, 3 * kj);
+        if (K.isZero(0.0)) continue;
+        RowMajor blk = chain_block(le.blocks[ki], le.blocks[kj], K, zero3, zero3);
+        PetscInt ri = dofs_.block_dof(le.blocks[ki]), cj = dofs_.block_dof(le.blocks[kj]);
+        PetscInt rows[3] = {ri, ri + 1, ri + 2}, cols[3] = {cj, cj + 1, cj + 2};
+        PetscCall(MatSetValues(J, 3, rows, 3, cols, blk.data(), ADD_VALUES));
+      }
+  }
+
+  for (int c : dofs_.local_constraints()) {
+    const Constraint& con = model_.constraints[c];
+    const int mo = local_multiplier_offset_[c];
+    const int m = con.rows();
+    ConstraintInputs in;
+    in.model = &model_;
+    in.constraint = &con;
+    in.block_state = state_of;
+    in.drive = con.drive >= 0 ? model_.drives[con.drive].evaluate(at.t) : DriveValue{};
+    in.lambda = uc + mo;
+    const ConstraintEval ce = evaluate_constraint(in);
+    const int nblk = ce.cols / 3;
+    std::vector<PetscInt> mult(m);
+    for (int j = 0; j < m; ++j) mult[j] = dofs_.multiplier_dof(c) + j;
+
+    for (int ki = 0; ki < nblk; ++ki) {
+      const int bi = ce.blocks[ki];
+      y[bi] += (ce.G.block(0, 3 * ki, m, 3).transpose() * Eigen::Map<const Eigen::VectorXd>(uc + mo, m)).eval();
+      PetscInt ri = dofs_.block_dof(bi);
+      PetscInt rows[3] = {ri, ri + 1, ri + 2};
+      // Geometric stiffness d(G^T lambda)/dq.
+      for (int kj = 0; kj < nblk; ++kj) {
+        const int bj = ce.blocks[kj];
+        RowMajor blk = chain_block(bi, bj, ce.H.block<3, 3>(3 * ki, 3 * kj), zero3, zero3);
+        PetscInt cj = dofs_.block_dof(bj);
+        PetscInt cols[3] = {cj, cj + 1, cj + 2};
+        PetscCall(MatSetValues(J, 3, rows, 3, cols, blk.data(), ADD_VALUES));
+      }
+      // Multiplier columns: rows_I G^T, times dUc/dU since lambda is read from Uc.
+      RowMajor gt = how.uc_per_u * chain_[bi].rows * ce.G.block(0, 3 * ki, m, 3).transpose();
+      PetscCall(MatSetValues(J, 3, rows, m, mult.data(), gt.data(), ADD_VALUES));
+    }
+
+    // Constraint rows.
+    RowMajor grow;
+    if (how.rows == ConstraintRows::acceleration) {
+      for (int kj = 0; kj < nblk; ++kj) {
+        const int bj = ce.blocks[kj];
+        grow = ca * ce.G.block(0, 3 * kj, m, 3);
+        PetscInt cj = dofs_.block_dof(bj);
+        PetscInt cols[3] = {cj, cj + 1, cj + 2};
+        PetscCall(MatSetValues(J, m, mult.data(), 3, cols, grow.data(), ADD_VALUES));
+      }
+    } else {
+      ConstraintInputs inc = in;
+      inc.block_state = state_c_of;
+      inc.lambda = nullptr;
+      inc.drive = con.drive >= 0 ? model_.drives[con.drive].evaluate(at.tc) : DriveValue{};
+      const ConstraintEval cc = evaluate_constraint(inc);
+      for (int kj = 0; kj < cc.cols / 3; ++kj) {
+        const int bj = cc.blocks[kj];
+        grow = (cq * how.constraint_scale * how.uc_per_u) * cc.G.block(0, 3 * kj, m, 3) * chain_c_[bj].col_K;
+        PetscInt cj = dofs_.block_dof(bj);
+        PetscInt cols[3] = {cj, cj + 1, cj + 2};
+        PetscCall(MatSetValues(J, m, mult.data(), 3, cols, grow.data(), ADD_VALUES));
+      }
+    }
+    for (int j = 0; j < m; ++j) PetscCall(MatSetValue(J, mult[j], mult[j], 0.0, ADD_VALUES));
+  }
+
+  // d(T^T y)/dphi on the diagonal blocks of rotation coordinates.
+  if (rates && cq != 0.0)
+    for (int b : dofs_.needed_blocks()) {
+      if (model_.blocks[b].kind != SlotKind::rotation || y[b].isZero(0.0)) continue;
+      RowMajor Y = cq * tangent_transpose_derivative(phi_[b], y[b]);
+      PetscInt g = dofs_.block_dof(b);
+      PetscInt rows[3] = {g, g + 1, g + 2};
+      PetscCall(MatSetValues(J, 3, rows, 3, rows, Y.data(), ADD_VALUES));
+    }
+
+  PetscCall(VecRestoreArrayRead(separate_uc_ ? uc_loc_ : u_loc_, &uc));
+  PetscCall(MatAssemblyBegin(J, MAT_FINAL_ASSEMBLY));
+  PetscCall(MatAssemblyEnd(J, MAT_FINAL_ASSEMBLY));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SystemAssembler::rescale_rotations(Vec U, Vec V, PetscBool* changed) const {
+  PetscFunctionBeginUser;
+  PetscScalar *u, *v;
+  PetscCall(VecGetArray(U, &u));
+  PetscCall(VecGetArray(V, &v));
+  PetscBool any = PETSC_FALSE;
+  const int lo = dofs_.owned_begin();
+  for (std::size_t b = 0; b < model_.blocks.size(); ++b) {
+    const DofBlock& blk = model_.blocks[b];
+    if (blk.fixed || blk.kind != SlotKind::rotation || dofs_.block_owner(static_cast<int>(b)) != dofs_.rank()) continue;
+    const int g = dofs_.block_dof(static_cast<int>(b)) - lo;
+    const Vec3 phi(u[g], u[g + 1], u[g + 2]);
+    if (phi.norm() <= std::numbers::pi) continue;
+    const Vec3 phi_new = rescaled_rotation_vector(phi);
+    const Vec3 omega = tangent_operator(phi) * Vec3(v[g], v[g + 1], v[g + 2]);
+    const Vec3 rate_new = tangent_operator_inverse(phi_new) * omega;
+    for (int i = 0; i < 3; ++i) {
+      u[g + i] = phi_new(i);
+      v[g + i] = rate_new(i);
+    }
+    any = PETSC_TRUE;
+  }
+  PetscCall(VecRestoreArray(U, &u));
+  PetscCall(VecRestoreArray(V, &v));
+  PetscCall(MPIU_Allreduce(&any, changed, 1, MPIU_BOOL, MPI_LOR, comm_));
+  PetscFunctionReturn(0);
+}
+
+namespace {
+template <class F>
+PetscErrorCode map_rotation_rates(const Model& model, const DofMap& dofs, Vec U, Vec V, F&& f) {
+  PetscFunctionBeginUser;
+  const PetscScalar* u;
+  PetscScalar* v;
+  PetscCall(VecGetArrayRead(U, &u));
+  PetscCall(VecGetArray(V, &v));
+  const int lo = dofs.owned_begin();
+  for (std::size_t b = 0; b < model.blocks.size(); ++b) {
+    const DofBlock& blk = model.blocks[b];
+    if (blk.fixed || blk.kind != SlotKind::rotation || dofs.block_owner(static_cast<int>(b)) != dofs.rank()) continue;
+    const int g = dofs.block_dof(static_cast<int>(b)) - lo;
+    const Vec3 w = f(Vec3(u[g], u[g + 1], u[g + 2]), Vec3(v[g], v[g + 1], v[g + 2]));
+    for (int i = 0; i < 3; ++i) v[g + i] = w(i);
+  }
+  PetscCall(VecRestoreArrayRead(U, &u));
+  PetscCall(VecRestoreArray(V, &v));
+  PetscFunctionReturn(0);
+}
+}  // namespace
+
+PetscErrorCode SystemAssembler::rates_to_velocities(Vec U, Vec V) const {
+  return map_rotation_rates(model_, dofs_, U, V, [](const Vec3& phi, const Vec3& rate) { return Vec3(tangent_operator(phi) * rate); });
+}
+
+PetscErrorCode SystemAssembler::velocities_to_rates(Vec U, Vec V) const {
+  return map_rotation_rates(model_, dofs_, U, V, [](const Vec3& phi, const Vec3& w) { return Vec3(tangent_operator_inverse(phi) * w); });
+}
+
+PetscErrorCode SystemAssembler::gather(double t, Vec U, Vec V, Vec A, Parametrization param, ModelState* state) {
+  PetscFunctionBeginUser;
+  std::vector<double> full[3];
+  const Vec in[3] = {U, V, A};
+  for (int k = 0; k < 3; ++k) {
+    if (!in[k]) continue;
+    VecScatter scatter;
+    Vec seq;
+    PetscCall(VecScatterCreateToZero(in[k], &scatter, &seq));
+    PetscCall(VecScatterBegin(scatter, in[k], seq, INSERT_VALUES, SCATTER_FORWARD));
+    PetscCall(VecScatterEnd(scatter, in[k], seq, INSERT_VALUES, SCATTER_FORWARD));
+    if (dofs_.rank() == 0) {
+      const PetscScalar* x;
+      PetscInt n;
+      PetscCall(VecGetLocalSize(seq, &n));
+      PetscCall(VecGetArrayRead(seq, &x));
+      full[k].assign(x, x + n);
+      PetscCall(VecRestoreArrayRead(seq, &x));
+    }
+    PetscCall(VecScatterDestroy(&scatter));
+    PetscCall(VecDestroy(&seq));
+  }
+  if (dofs_.rank() == 0 && state) state->set(t, full[0], full[1], full[2], param);
+  PetscFunctionReturn(0);
+}
+
+}  // namespace latticedyn

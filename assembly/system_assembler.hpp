@@ -1,0 +1,101 @@
+// Global assembly of the constrained equations of motion (4-1) into PETSc: the residual
+// [M a + F - f_ext + G^T lambda ; s g] and its Jacobian in a preallocated AIJ matrix whose nonzero
+// pattern never changes, evaluated by each rank for its own elements, loads and constraints.
+#pragma once
+
+#include "assembly/block_kinematics.hpp"
+#include "assembly/dof_map.hpp"
+#include "assembly/model_state.hpp"
+
+#include <petscmat.h>
+
+namespace latticedyn {
+
+/// Where to evaluate. U holds coordinates and multipliers; V, A their first and second rates in
+/// the chosen parametrisation (null = zero). Uc is the state at which the constraint rows are
+/// evaluated and from which the multipliers are read (generalized-alpha: the end of the step);
+/// null means U.
+struct EvaluationPoint {
+  Vec U = nullptr, V = nullptr, A = nullptr, Uc = nullptr;
+  double t = 0.0;   ///< time of the force balance
+  double tc = 0.0;  ///< time of the constraint rows (drives)
+};
+
+enum class ConstraintRows {
+  position,     ///< s g(Uc, tc) = 0: index-3 (generalized-alpha, statics)
+  acceleration  ///< G a + Gamma + 2 alpha beta g_dot + alpha^2 g = 0: Baumgarte (4-27)
+};
+
+struct EvaluationSettings {
+  Parametrization param = Parametrization::rotation_vector_rates;
+  double load_scale = 1.0;        ///< multiplies gravity and nodal loads (static load ramping)
+  double constraint_scale = 1.0;  ///< s of the position-level constraint rows
+  double uc_per_u = 1.0;          ///< dUc/dU: 1/alpha_f for generalized-alpha, else 1
+  ConstraintRows rows = ConstraintRows::position;
+  double baumgarte_alpha = 0.0;
+  double baumgarte_beta = 1.0;
+};
+
+class SystemAssembler {
+ public:
+  SystemAssembler(const Model& model, MPI_Comm comm);
+  ~SystemAssembler();
+  SystemAssembler(const SystemAssembler&) = delete;
+  SystemAssembler& operator=(const SystemAssembler&) = delete;
+
+  const Model& model() const { return model_; }
+  const DofMap& dofs() const { return dofs_; }
+  MPI_Comm comm() const { return comm_; }
+
+  PetscErrorCode create_vector(Vec* v) const;
+  /// AIJ matrix with the exact nonzero pattern; inserting outside it is an error.
+  PetscErrorCode create_matrix(Mat* m) const;
+  /// Initial coordinates and rates (rotation-vector rates) from the model; multipliers zero.
+  PetscErrorCode initial_state(Vec U, Vec V) const;
+
+  /// F = residual; `finite` (collective) is false when any entry is NaN or infinite.
+  PetscErrorCode residual(const EvaluationPoint& at, const EvaluationSettings& how, Vec F, PetscBool* finite);
+  /// J = cq dF/dU + cv dF/dV + ca dF/dA; multiplier columns enter with uc_per_u.
+  PetscErrorCode jacobian(const EvaluationPoint& at, const EvaluationSettings& how, double cq, double cv,
+                          double ca, Mat J);
+
+  /// Rescales rotation vectors with |phi| > pi to the same rotation with |phi| <= pi and maps
+  /// their rates so that omega is unchanged (rotation-vector rates). Collective.
+  PetscErrorCode rescale_rotations(Vec U, Vec V, PetscBool* changed) const;
+  /// Converts rotation-vector rates to velocity variables (omega) and back, in place.
+  PetscErrorCode rates_to_velocities(Vec U, Vec V) const;
+  PetscErrorCode velocities_to_rates(Vec U, Vec V) const;
+
+  /// Gathers the state to rank 0 and loads it into `state` there (other ranks: untouched).
+  PetscErrorCode gather(double t, Vec U, Vec V, Vec A, Parametrization param, ModelState* state);
+
+  /// Typical diagonal mass and stiffness at the initial state, for scaling constraint rows.
+  double characteristic_mass() const { return mass_scale_; }
+  double characteristic_stiffness() const { return stiffness_scale_; }
+
+ private:
+  struct LocalData;
+  PetscErrorCode scatter_in(const EvaluationPoint& at);
+  void compute_states(const EvaluationSettings& how, bool with_chain, double cq, double cv, double ca);
+  int local_offset(int block) const { return local_block_offset_[block]; }
+  void estimate_scales();
+
+  const Model& model_;
+  MPI_Comm comm_;
+  DofMap dofs_;
+  std::vector<int> local_block_offset_;       // per model block, -1 if not needed/fixed
+  std::vector<int> local_multiplier_offset_;  // per constraint, -1 if not local
+  int local_size_ = 0;
+  Vec global_template_ = nullptr;
+  Vec u_loc_ = nullptr, v_loc_ = nullptr, a_loc_ = nullptr, uc_loc_ = nullptr, r_loc_ = nullptr;
+  VecScatter to_local_ = nullptr;
+  bool have_v_ = false, have_a_ = false, separate_uc_ = false;
+  std::vector<BlockState> state_, state_c_;
+  std::vector<BlockChain> chain_, chain_c_;
+  std::vector<Mat3> rows_T_;  // T(phi)^T per block (rotation-vector rates), identity otherwise
+  std::vector<Vec3> phi_;     // rotation vectors of needed rotation blocks
+  double mass_scale_ = 1.0;
+  double stiffness_scale_ = 1.0;
+};
+
+}  // namespace latticedyn

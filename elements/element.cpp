@@ -1,0 +1,20 @@
+// Defaults of the element contract shared by all element types.
+#include "elements/element.hpp"
+
+namespace latticedyn {
+
+int Element::num_dofs() const {
+  int n = 0;
+  for (SlotKind k : slots()) n += slot_size(k);
+  return n;
+}
+
+std::vector<Vec3> Element::axis_points(std::span<const SlotState<double>> state) const {
+  std::vector<Vec3> pts;
+  const auto kinds = slots();
+  for (std::size_t k = 0; k < kinds.size(); ++k)
+    if (kinds[k] == SlotKind::translation) pts.push_back(state[k].pos);
+  return pts;
+}
+
+}  // namespace latticedyn

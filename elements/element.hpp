@@ -1,0 +1,87 @@
+// The element contract: an element maps the kinematic state of its DoF slots to a local residual
+// r = M(q) dq_dot + F(q, dq) and its tangents; it never sees global numbering, PETSc or MPI.
+#pragma once
+
+#include "core/types.hpp"
+
+#include <Eigen/Core>
+
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string_view>
+#include <vector>
+
+namespace latticedyn {
+
+/// What a DoF slot of an element is: a point position (3), a frame orientation (3, perturbed
+/// on the right by a body-frame rotation vector), or one scalar coordinate.
+enum class SlotKind : std::uint8_t { translation, rotation, scalar };
+
+constexpr int slot_size(SlotKind k) { return k == SlotKind::scalar ? 1 : 3; }
+
+/// Kinematic state of one slot in the thesis's velocity variables dq = [r_dot, B omega]:
+///   translation: pos = r, vel = r_dot, acc = r_ddot (inertial frame);
+///   rotation:    rot = R (slot frame -> inertial), vel = omega, acc = omega_dot (slot frame);
+///   scalar:      pos(0), vel(0), acc(0).
+/// Fields a kind does not use are left alone.
+template <class S>
+struct SlotState {
+  Vec3T<S> pos = Vec3T<S>::Zero();
+  Mat3T<S> rot = Mat3T<S>::Identity();
+  Vec3T<S> vel = Vec3T<S>::Zero();
+  Vec3T<S> acc = Vec3T<S>::Zero();
+};
+
+/// Global inputs of an element evaluation: gravity (already scaled by any load ramp) and time.
+struct ElementContext {
+  Vec3 gravity = Vec3::Zero();
+  double time = 0.0;
+};
+
+struct ElementEnergy {
+  double kinetic = 0.0;
+  double gravity_potential = 0.0;  ///< -integral of rho g . r over the element
+  double strain = 0.0;             ///< elastic energy plus any acceleration-like stored energy
+};
+
+/// Residual and tangents in the slots' velocity variables, r = M dq_dot + F (thesis C-6, C-87):
+/// K = dr/dq (rotations perturbed as R exp(skew(dtheta))), C = dr/d(dq), M = dr/d(dq_dot).
+struct ElementTangents {
+  VecX residual;
+  MatX K, C, M;
+  void resize(int n) {
+    residual.resize(n);
+    K.resize(n, n);
+    C.resize(n, n);
+    M.resize(n, n);
+  }
+};
+
+class Element {
+ public:
+  virtual ~Element() = default;
+
+  virtual std::string_view type_name() const = 0;
+  /// Kinds of the DoF slots, in the order of the local residual.
+  virtual std::span<const SlotKind> slots() const = 0;
+  int num_dofs() const;
+
+  virtual void residual(std::span<const SlotState<double>> state, const ElementContext& ctx,
+                        Eigen::Ref<VecX> r) const = 0;
+  virtual void tangents(std::span<const SlotState<double>> state, const ElementContext& ctx,
+                        ElementTangents& out) const = 0;
+  virtual ElementEnergy energy(std::span<const SlotState<double>> state,
+                               const ElementContext& ctx) const = 0;
+
+  /// Axial force of a bar-like element (tension positive), for output; none by default.
+  virtual std::optional<double> axial_force(std::span<const SlotState<double>> /*state*/,
+                                            const ElementContext& /*ctx*/) const {
+    return std::nullopt;
+  }
+  /// Points along the element's axis for drawing it as a polyline; rigid bodies return none
+  /// (they are drawn through their joints).
+  virtual std::vector<Vec3> axis_points(std::span<const SlotState<double>> state) const;
+};
+
+}  // namespace latticedyn

@@ -1,0 +1,44 @@
+// Materials and cross sections as validated value types (thesis Table 5-1: round tube, frame,
+// custom), kept apart from the elements that use them.
+#pragma once
+
+namespace latticedyn {
+
+struct Material {
+  double density = 0.0;         ///< rho [kg/m^3]
+  double youngs_modulus = 0.0;  ///< E [Pa]
+  double poisson_ratio = 0.0;   ///< nu [-]
+
+  double shear_modulus() const { return youngs_modulus / (2.0 * (1.0 + poisson_ratio)); }
+  /// Throws std::invalid_argument naming the first meaningless value.
+  void validate() const;
+};
+
+/// Geometric properties of a cross section in its local y-z plane.
+struct SectionProperties {
+  enum class Shape { round_tube, frame, custom };
+  Shape shape = Shape::custom;
+  double area = 0.0;              ///< A [m^2]
+  double Iy = 0.0;                ///< integral of z^2 dA [m^4]
+  double Iz = 0.0;                ///< integral of y^2 dA [m^4]
+  double torsion_constant = 0.0;  ///< J (Saint-Venant) [m^4]
+  double outer_radius = 0.0;      ///< round tube radii (for shear coefficient and drawing)
+  double inner_radius = 0.0;
+  double custom_shear_coefficient = 0.0;  ///< custom sections: given kappa, or 0 for 5/6
+
+  /// Timoshenko shear coefficient kappa (shear stiffness kappa G A): Cowper's formula for round
+  /// tubes (0.886 solid, ~0.53 thin wall at nu = 0.3), A_web/A for frames, 5/6 or given otherwise.
+  double shear_coefficient(double poisson_ratio) const;
+  void validate() const;
+};
+
+/// Round tube of outer and inner radius (thesis tables call them "diameter"; they are radii).
+SectionProperties round_tube_section(double outer_radius, double inner_radius);
+/// Rectangular hollow ("frame") section: height along z, width along y, wall thickness;
+/// thickness >= min(height, width)/2 gives the solid rectangle.
+SectionProperties frame_section(double height, double width, double thickness);
+/// User-given properties; shear_coefficient <= 0 means 5/6.
+SectionProperties custom_section(double area, double Iy, double Iz, double torsion_constant,
+                                 double shear_coefficient = 0.0);
+
+}  // namespace latticedyn

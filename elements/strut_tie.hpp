@@ -1,0 +1,92 @@
+// Two-node strut tie of thesis 3.2 / C.3: a bar carrying only axial stress, linear interpolation
+// between its end points, stress averaged over the smoothing time h, section rotary inertia.
+#pragma once
+
+#include "elements/autodiff_element.hpp"
+#include "elements/section.hpp"
+
+namespace latticedyn {
+
+struct StrutTieProperties {
+  Material material;
+  SectionProperties section;
+  double rest_length = 0.0;  ///< L0, the unstressed length
+  double smoothing = 0.0;    ///< h of (3-16): sigma = E (eps + h/2 eps_dot + h^2/6 eps_ddot)
+  void validate() const;
+};
+
+/// Slots: [translation of end 1, translation of end 2]. With d = r2 - r1, l = |d|, n = d/l:
+///   eps = l/L0 - 1 (C-74), axial force N = E A (eps + h/2 eps_dot + h^2/6 eps_ddot) (C-76),
+///   r = [M_t a - m g/2 - N n ; M_t a - m g/2 + N n] + rotary inertia,
+/// with the consistent mass M_t = rho A L0/6 [2I I; I 2I] (C-82). The sections' rotary inertia
+/// (C-82's T_phi^T J T_phi) enters through the kinetic energy 1/2 rho I_m L0 |d x d_dot|^2 / l^4
+/// of the bar's rotation about its axis' normal, with I_m = (Iy + Iz)/2: the bar's roll is not
+/// a DoF, so only this axisymmetric part is well defined (the thesis's frame choice (3-9) is
+/// singular when the bar points along -x). Mass stays constant as the bar stretches (3.2.1, 4).
+class StrutTie final : public AutoDiffElement<StrutTie, 6> {
+ public:
+  static constexpr std::array<SlotKind, 2> kSlots = {SlotKind::translation, SlotKind::translation};
+
+  explicit StrutTie(const StrutTieProperties& p);
+
+  std::string_view type_name() const override { return "strut_tie"; }
+  ElementEnergy energy(std::span<const SlotState<double>> state,
+                       const ElementContext& ctx) const override;
+  std::optional<double> axial_force(std::span<const SlotState<double>> state,
+                                    const ElementContext& ctx) const override;
+
+  const StrutTieProperties& properties() const { return props_; }
+  double mass() const { return mass_; }
+
+  template <class S>
+  void compute_residual(std::span<const SlotState<S>> s, const ElementContext& ctx,
+                        Eigen::Matrix<S, 6, 1>& r) const {
+    using std::sqrt;
+    const Vec3T<S> d = s[1].pos - s[0].pos;
+    const Vec3T<S> dv = s[1].vel - s[0].vel;
+    const Vec3T<S> da = s[1].acc - s[0].acc;
+    const S l2 = d.squaredNorm();
+    const S l = sqrt(l2);
+    const Vec3T<S> n = d / l;
+    const S N = axial_force_from(d, dv, da);
+    const Vec3T<S> g = cast_to<S>(ctx.gravity);
+    const S m6(mass_ / 6.0);
+    r.template head<3>() = m6 * (S(2) * s[0].acc + s[1].acc) - S(3) * m6 * g - N * n;
+    r.template tail<3>() = m6 * (s[0].acc + S(2) * s[1].acc) - S(3) * m6 * g + N * n;
+    if (rotary_inertia_ > 0.0) {
+      // Lagrange's equations of T = J/2 |w|^2 with w = d x d_dot / l^2 (angular velocity of the
+      // axis): Q = d/dt (dT/d d_dot) - dT/dd acts with -Q on end 1 and +Q on end 2.
+      const S J(rotary_inertia_);
+      const S dd = d.dot(dv);
+      const Vec3T<S> w = d.cross(dv) / l2;
+      const Vec3T<S> w_dot = d.cross(da) / l2 - S(2) * dd / l2 * w;
+      const Vec3T<S> p_dot = J * ((w_dot.cross(d) + w.cross(dv)) / l2 - S(2) * dd / (l2 * l2) * w.cross(d));
+      const Vec3T<S> dT_dd = J * (dv.cross(w) / l2 - S(2) * w.squaredNorm() / l2 * d);
+      const Vec3T<S> Q = p_dot - dT_dd;
+      r.template head<3>() -= Q;
+      r.template tail<3>() += Q;
+    }
+  }
+
+ private:
+  template <class S>
+  S axial_force_from(const Vec3T<S>& d, const Vec3T<S>& dv, const Vec3T<S>& da) const {
+    using std::sqrt;
+    const S l = sqrt(d.squaredNorm());
+    const Vec3T<S> n = d / l;
+    const S L0(props_.rest_length);
+    const S nv = n.dot(dv);
+    const S eps = l / L0 - S(1);
+    const S eps_dot = nv / L0;
+    const S eps_ddot = (n.dot(da) + (dv.squaredNorm() - nv * nv) / l) / L0;
+    const S h(props_.smoothing);
+    return S(ea_) * (eps + h / S(2) * eps_dot + h * h / S(6) * eps_ddot);
+  }
+
+  StrutTieProperties props_;
+  double mass_ = 0.0;
+  double ea_ = 0.0;
+  double rotary_inertia_ = 0.0;  ///< rho (Iy + Iz)/2 L0
+};
+
+}  // namespace latticedyn

@@ -1,0 +1,147 @@
+// Small models built in code for the assembly tests: every constraint type, loads in both
+// frames, a driven joint, strut ties, shared nodes, rotations far from the reference.
+#pragma once
+
+#include "assembly/model_builder.hpp"
+#include "core/rotation.hpp"
+#include "elements/rigid_body.hpp"
+#include "elements/strut_tie.hpp"
+
+#include <memory>
+
+namespace latticedyn::testing {
+
+inline RigidBodyProperties box_properties(double mass) {
+  RigidBodyProperties p;
+  p.mass = mass;
+  p.centroid = Vec3(0.5, 0.05, -0.02);
+  p.inertia_centroid = Vec3(0.2, 0.5, 0.6).asDiagonal();
+  return p;
+}
+
+struct BodyBlocks {
+  int body, t, r;
+};
+
+inline BodyBlocks add_rigid_body(ModelBuilder& b, const std::string& name, double mass, const Vec3& pos, const Vec3& phi,
+                                 const Vec3& v = Vec3::Zero(), const Vec3& w = Vec3::Zero()) {
+  BodyBlocks out;
+  out.body = b.add_body(name, "rigid_body");
+  DofBlock t;
+  t.kind = SlotKind::translation;
+  t.position0 = pos;
+  t.velocity0 = v;
+  t.label = name;
+  DofBlock r;
+  r.kind = SlotKind::rotation;
+  r.orientation0 = rotation_matrix(phi);
+  r.velocity0 = w;
+  r.label = name;
+  out.t = b.add_block(t);
+  out.r = b.add_block(r);
+  b.add_element(out.body, std::make_shared<RigidBody>(box_properties(mass)), {{out.t}, {out.r}});
+  return out;
+}
+
+inline int add_body_joint(ModelBuilder& b, const BodyBlocks& body, const std::string& name, const Vec3& offset,
+                          const Mat3& frame = Mat3::Identity()) {
+  Joint j;
+  j.name = b.peek().bodies[body.body].name + "." + name;
+  j.translation_block = body.t;
+  j.rotation_block = body.r;
+  j.offset = offset;
+  j.frame = frame;
+  return b.add_joint(body.body, j);
+}
+
+struct StrutBlocks {
+  int body, t1, t2, j1, j2;
+};
+
+inline StrutBlocks add_strut(ModelBuilder& b, const std::string& name, const Vec3& p1, const Vec3& p2, double E = 1e7) {
+  StrutBlocks out;
+  out.body = b.add_body(name, "strut_tie");
+  DofBlock t;
+  t.kind = SlotKind::translation;
+  t.position0 = p1;
+  out.t1 = b.add_block(t);
+  t.position0 = p2;
+  out.t2 = b.add_block(t);
+  StrutTieProperties p;
+  p.material = Material{7800.0, E, 0.3};
+  p.section = round_tube_section(0.02, 0.0);
+  p.rest_length = (p2 - p1).norm();
+  p.smoothing = 1e-3;
+  b.add_element(out.body, std::make_shared<StrutTie>(p), {{out.t1}, {out.t2}});
+  Joint j;
+  j.name = name + ".1";
+  j.translation_block = out.t1;
+  out.j1 = b.add_joint(out.body, j);
+  j.name = name + ".2";
+  j.translation_block = out.t2;
+  out.j2 = b.add_joint(out.body, j);
+  return out;
+}
+
+/// A mechanism using everything the assembly supports: four rigid bodies chained by a driven
+/// revolute, a spherical, a prismatic and a fixed joint, two strut ties (one attached by
+/// multipliers, one by a shared node), loads in the inertial and the body frame.
+inline Model kitchen_sink_model() {
+  ModelBuilder b;
+  b.set_gravity(Vec3(0, 0, -9.81));
+  const int g0 = b.add_ground_joint("ground.o", Vec3::Zero(), rotation_matrix<double>(Vec3(0.3, 0, 0)));
+  const int g1 = b.add_ground_joint("ground.p", Vec3(2.0, 0.5, 0.0), Mat3::Identity());
+  const auto A = add_rigid_body(b, "a", 2.0, Vec3::Zero(), Vec3(0.3, 0, 0), Vec3(0.1, 0, 0), Vec3(0.2, -0.1, 0.3));
+  const auto B = add_rigid_body(b, "b", 3.0, Vec3(1.0, 0, 0), Vec3(0.1, 0.2, -0.3));
+  const auto C = add_rigid_body(b, "c", 1.5, Vec3(1.0, 1.0, 0.0), Vec3(-0.2, 0.1, 0.4));
+  const auto D = add_rigid_body(b, "d", 1.0, Vec3(1.5, 1.0, 0.2), Vec3(0.0, 0.0, 0.0));
+  const int a0 = add_body_joint(b, A, "0", Vec3::Zero());
+  const int a1 = add_body_joint(b, A, "1", Vec3(1.0, 0, 0));
+  const int b0 = add_body_joint(b, B, "0", Vec3::Zero(), rotation_matrix<double>(Vec3(0, 0.2, 0)));
+  const int b1 = add_body_joint(b, B, "1", Vec3(0, 1.0, 0));
+  const int c0 = add_body_joint(b, C, "0", Vec3::Zero());
+  const int c1 = add_body_joint(b, C, "1", Vec3(0.5, 0, 0.2));
+  const int d0 = add_body_joint(b, D, "0", Vec3::Zero());
+  const int d1 = add_body_joint(b, D, "1", Vec3(0.3, 0.1, 0));
+  b.add_drive("spin", Drive(Drive::CosineStep{0.0, 1.0, 0.0, 0.5}));
+
+  auto con = [&](const char* name, ConstraintType type, int axis, int j1, int j2, int drive = -1) {
+    Constraint c;
+    c.name = name;
+    c.type = type;
+    c.axis = axis;
+    c.joint1 = j1;
+    c.joint2 = j2;
+    c.drive = drive;
+    return c;
+  };
+  b.add_constraint(con("hinge", ConstraintType::revolute, 2, g0, a0, 0), false);
+  b.add_constraint(con("ball", ConstraintType::spherical, 0, a1, b0), false);
+  b.add_constraint(con("slider", ConstraintType::prismatic, 1, b1, c0), false);
+  b.add_constraint(con("weld", ConstraintType::fixed, 0, c1, d0), false);
+  const auto S = add_strut(b, "tie", Vec3(2.0, 0.5, 0.0), Vec3(1.8, 1.1, 0.2));
+  b.add_constraint(con("tie_ground", ConstraintType::spherical, 0, g1, S.j1), true);  // shared: fixed node
+  b.add_constraint(con("tie_d", ConstraintType::spherical, 0, S.j2, d1), false);
+  const auto S2 = add_strut(b, "tie2", Vec3(1.8, 1.1, 0.2), Vec3(1.0, 1.0, 0.0));
+  b.add_constraint(con("tie2_tie", ConstraintType::spherical, 0, S.j2, S2.j1), true);  // shared free node
+  b.add_constraint(con("tie2_c", ConstraintType::spherical, 0, S2.j2, c0), false);
+
+  NodalLoad f;
+  f.name = "push";
+  f.joint = d1;
+  f.force = Vec3(1.0, -2.0, 0.5);
+  f.force_frame = LoadFrame::body;
+  f.moment = Vec3(0.3, 0.1, -0.2);
+  f.moment_frame = LoadFrame::body;
+  b.add_load(f);
+  NodalLoad g;
+  g.name = "pull";
+  g.joint = a1;
+  g.force = Vec3(0.0, 0.0, 5.0);
+  g.moment = Vec3(0.5, 0.0, 0.0);
+  g.drive = 0;
+  b.add_load(g);
+  return b.build();
+}
+
+}  // namespace latticedyn::testing

@@ -1,0 +1,123 @@
+// Constraints of thesis 4.4 along a motion: g_dot = G v + g_u u_dot and g_ddot = G a + Gamma
+// against finite differences in time, for every type including the driven ones; and the
+// geometric meaning of each type's equations.
+#include "assembly/constraint_evaluator.hpp"
+#include "assembly/constraint_kernels.hpp"
+
+#include "sample_models.hpp"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+namespace latticedyn {
+namespace {
+
+// Block states of the model moving with constant acceleration from random rates.
+struct Motion {
+  const Model& model;
+  std::vector<BlockState> s0;
+  BlockState at(int b, double t) const {
+    BlockState s = s0[b];
+    if (model.blocks[b].fixed) return s;
+    if (model.blocks[b].kind == SlotKind::rotation)
+      s.rot = s.rot * rotation_matrix<double>(s0[b].vel * t + 0.5 * s0[b].acc * t * t);
+    else
+      s.pos += s0[b].vel * t + 0.5 * s0[b].acc * t * t;
+    s.vel += s0[b].acc * t;
+    return s;
+  }
+};
+
+TEST(Constraints, VelocityAndAccelerationTermsMatchTimeDerivatives) {
+  const Model model = testing::kitchen_sink_model();
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-1, 1);
+  Motion m{model, {}};
+  for (const auto& b : model.blocks) {
+    BlockState s;
+    s.pos = b.position0;
+    s.rot = b.orientation0 * rotation_matrix<double>(Vec3(u(rng), u(rng), u(rng)));
+    if (!b.fixed) {
+      s.vel = Vec3(u(rng), u(rng), u(rng));
+      s.acc = Vec3(u(rng), u(rng), u(rng));
+    }
+    m.s0.push_back(s);
+  }
+  const double t0 = 0.37, h = 1e-4;
+  for (const Constraint& c : model.constraints) {
+    auto eval = [&](double t) {
+      std::vector<BlockState> states(model.blocks.size());
+      for (std::size_t b = 0; b < states.size(); ++b) states[b] = m.at(static_cast<int>(b), t);
+      ConstraintInputs in;
+      in.model = &model;
+      in.constraint = &c;
+      in.block_state = [states](int b) -> const BlockState& { return states[b]; };
+      in.drive = c.drive >= 0 ? model.drives[c.drive].evaluate(t0 + t) : DriveValue{};
+      in.with_velocity_terms = true;
+      return evaluate_constraint(in);
+    };
+    const ConstraintEval e0 = eval(0), ep = eval(h), em = eval(-h);
+    Eigen::VectorXd a = Eigen::VectorXd::Zero(e0.cols);
+    for (int k = 0; k < e0.cols / 3; ++k) a.segment<3>(3 * k) = m.s0[e0.blocks[k]].acc;
+    for (int r = 0; r < e0.rows; ++r) {
+      const double gd_fd = (ep.g(r) - em.g(r)) / (2 * h);
+      const double gdd_fd = (ep.g(r) - 2 * e0.g(r) + em.g(r)) / (h * h);
+      const double gdd = e0.G.row(r).head(e0.cols).dot(a) + e0.gamma(r);
+      EXPECT_NEAR(e0.g_dot(r), gd_fd, 1e-7 * (1 + std::abs(gd_fd))) << c.name << " row " << r;
+      EXPECT_NEAR(gdd, gdd_fd, 2e-5 * (1 + std::abs(gdd_fd))) << c.name << " row " << r;
+    }
+  }
+}
+
+JointPairFrames<double> frames(const Vec3& r1, const Mat3& R1, const Vec3& r2, const Mat3& R2) {
+  return JointPairFrames<double>{r1, r2, R1, R2};
+}
+
+Eigen::VectorXd values(ConstraintType type, int axis, bool driven, const JointPairFrames<double>& f, double u = 0) {
+  Constraint c;
+  c.type = type;
+  c.axis = axis;
+  c.drive = driven ? 0 : -1;
+  Eigen::VectorXd g(c.rows());
+  constraint_values<double>(c, f, u, g.data());
+  return g;
+}
+
+TEST(Constraints, RevoluteAllowsExactlyTheRotationAboutItsAxis) {
+  const Mat3 R1 = rotation_matrix<double>(Vec3(0.3, -0.4, 0.2));
+  const Vec3 p(1, 2, 3);
+  for (int axis = 0; axis < 3; ++axis) {
+    const Mat3 about = R1 * rotation_matrix<double>(1.1 * Vec3::Unit(axis));
+    EXPECT_LT(values(ConstraintType::revolute, axis, false, frames(p, R1, p, about)).norm(), 1e-14);
+    // Driven: satisfied exactly at the prescribed angle, sin(theta - u) otherwise.
+    EXPECT_LT(values(ConstraintType::revolute, axis, true, frames(p, R1, p, about), 1.1).norm(), 1e-14);
+    EXPECT_NEAR(values(ConstraintType::revolute, axis, true, frames(p, R1, p, about), 0.6)(5), std::sin(0.5), 1e-14);
+    const Mat3 other = R1 * rotation_matrix<double>(0.2 * Vec3::Unit((axis + 1) % 3));
+    EXPECT_GT(values(ConstraintType::revolute, axis, false, frames(p, R1, p, other)).norm(), 0.1);
+  }
+}
+
+TEST(Constraints, PrismaticAllowsExactlyTheSlideAlongItsAxis) {
+  const Mat3 R = rotation_matrix<double>(Vec3(-0.2, 0.5, 0.9));
+  const Vec3 p(0.5, -1, 2);
+  for (int axis = 0; axis < 3; ++axis) {
+    const Vec3 q = p + 0.75 * R.col(axis);
+    EXPECT_LT(values(ConstraintType::prismatic, axis, false, frames(p, R, q, R)).norm(), 1e-14);
+    EXPECT_NEAR(values(ConstraintType::prismatic, axis, true, frames(p, R, q, R), 0.5)(5), 0.25, 1e-14);
+    const Vec3 off = p + 0.3 * R.col((axis + 1) % 3);
+    EXPECT_GT(values(ConstraintType::prismatic, axis, false, frames(p, R, off, R)).norm(), 0.1);
+  }
+}
+
+TEST(Constraints, FixedAndSphericalVanishOnlyWhereTheyShould) {
+  const Mat3 R = rotation_matrix<double>(Vec3(1.0, 0.2, -0.7));
+  const Vec3 p(1, 1, 1);
+  EXPECT_LT(values(ConstraintType::fixed, 0, false, frames(p, R, p, R)).norm(), 1e-14);
+  const Mat3 turned = R * rotation_matrix<double>(Vec3(0.05, 0, 0));
+  EXPECT_GT(values(ConstraintType::fixed, 0, false, frames(p, R, p, turned)).norm(), 0.04);
+  EXPECT_LT(values(ConstraintType::spherical, 0, false, frames(p, R, p, turned)).norm(), 1e-14);
+}
+
+}  // namespace
+}  // namespace latticedyn

@@ -1,0 +1,96 @@
+// Node sharing (the thesis's public computing nodes, 7.4.1): merged blocks, composed frame
+// offsets, fixing to the ground, and clear errors for connections that cannot be shared.
+#include "assembly/dof_map.hpp"
+#include "assembly/model_builder.hpp"
+
+#include "sample_models.hpp"
+
+#include <gtest/gtest.h>
+
+namespace latticedyn {
+namespace {
+
+Constraint make(const char* name, ConstraintType type, int j1, int j2) {
+  Constraint c;
+  c.name = name;
+  c.type = type;
+  c.joint1 = j1;
+  c.joint2 = j2;
+  return c;
+}
+
+TEST(ModelBuilder, SharedFixedConnectionComposesFrames) {
+  ModelBuilder b;
+  const auto A = testing::add_rigid_body(b, "a", 1.0, Vec3(0, 0, 0), Vec3(0, 0, 0));
+  const auto B = testing::add_rigid_body(b, "b", 1.0, Vec3(1, 0, 0), Vec3(0, 0, 0.5));
+  // Joint frames chosen so both joints have the same orientation in space.
+  const Mat3 Fa = rotation_matrix<double>(Vec3(0, 0, 0.5));
+  const int ja = testing::add_body_joint(b, A, "end", Vec3(1, 0, 0), Fa);
+  (void)ja;
+  // Sharing needs joints on the block origin: B's origin is at (1, 0, 0).
+  const int jb = testing::add_body_joint(b, B, "start", Vec3::Zero());
+  const int ja0 = b.add_ground_joint("ground.x", Vec3(1, 0, 0), Fa);
+  b.add_constraint(make("weld", ConstraintType::fixed, ja0, jb), true);
+  const Model m = b.build();
+  // B's blocks are merged into the ground joint's fixed blocks: 6 free DoFs remain (body a).
+  EXPECT_EQ(m.num_free_dofs(), 6);
+  EXPECT_EQ(m.num_multipliers(), 0);
+  const auto& slots = m.elements[1].slots;
+  EXPECT_TRUE(m.blocks[slots[0].block].fixed);
+  EXPECT_TRUE(m.blocks[slots[1].block].fixed);
+  // The element's frame is the block frame times the offset: unchanged orientation in space.
+  EXPECT_LT((m.blocks[slots[1].block].orientation0 * slots[1].offset - rotation_matrix<double>(Vec3(0, 0, 0.5))).norm(), 1e-14);
+}
+
+TEST(ModelBuilder, RejectsSharingOfSeparatedJoints) {
+  ModelBuilder b;
+  const auto S1 = testing::add_strut(b, "s1", Vec3(0, 0, 0), Vec3(1, 0, 0));
+  const auto S2 = testing::add_strut(b, "s2", Vec3(1.5, 0, 0), Vec3(2, 0, 0));
+  b.add_constraint(make("gap", ConstraintType::spherical, S1.j2, S2.j1), true);
+  try {
+    b.build();
+    FAIL() << "expected a ModelError";
+  } catch (const ModelError& e) {
+    EXPECT_NE(std::string(e.what()).find("gap"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("0.5"), std::string::npos) << e.what();
+  }
+}
+
+TEST(ModelBuilder, RejectsRevoluteSharingAndOrientationOnStrutEnds) {
+  ModelBuilder b;
+  const auto A = testing::add_rigid_body(b, "a", 1.0, Vec3(0, 0, 0), Vec3(0, 0, 0));
+  const int ja = testing::add_body_joint(b, A, "o", Vec3::Zero());
+  const int g = b.add_ground_joint("ground.o", Vec3::Zero(), Mat3::Identity());
+  EXPECT_THROW(b.add_constraint(make("hinge", ConstraintType::revolute, g, ja), true), ModelError);
+  const auto S = testing::add_strut(b, "s", Vec3(0, 0, 0), Vec3(1, 0, 0));
+  EXPECT_THROW(b.add_constraint(make("weld", ConstraintType::fixed, ja, S.j1), false), ModelError);
+  EXPECT_NO_THROW(b.add_constraint(make("ball", ConstraintType::spherical, ja, S.j1), false));
+}
+
+TEST(ModelBuilder, RejectsMisalignedSharedFixedFrames) {
+  ModelBuilder b;
+  const auto A = testing::add_rigid_body(b, "a", 1.0, Vec3(0, 0, 0), Vec3(0, 0, 0));
+  const int ja = testing::add_body_joint(b, A, "o", Vec3::Zero());
+  const int g = b.add_ground_joint("ground.o", Vec3::Zero(), rotation_matrix<double>(Vec3(0.1, 0, 0)));
+  b.add_constraint(make("weld", ConstraintType::fixed, g, ja), true);
+  EXPECT_THROW(b.build(), ModelError);
+}
+
+TEST(DofMap, PartitionsOverRanksConsistently) {
+  const Model m = testing::kitchen_sink_model();
+  std::vector<int> owners_seen;
+  int total_rows = 0;
+  for (int p = 0; p < 3; ++p) {
+    DofMap d(m, p, 3);
+    EXPECT_EQ(d.global_size(), m.num_free_dofs() + m.num_multipliers());
+    total_rows += d.owned_size();
+    std::vector<int> dn, on;
+    d.count_nonzeros(dn, on);
+    EXPECT_EQ(static_cast<int>(dn.size()), d.owned_size());
+    for (int i = 0; i < d.owned_size(); ++i) EXPECT_GT(dn[i] + on[i], 0);
+  }
+  EXPECT_EQ(total_rows, m.num_free_dofs() + m.num_multipliers());
+}
+
+}  // namespace
+}  // namespace latticedyn
