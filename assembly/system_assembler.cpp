@@ -475,30 +475,44 @@ PetscErrorCode SystemAssembler::jacobian(const EvaluationPoint& at, const Evalua
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode SystemAssembler::rescale_rotations(Vec U, Vec V, PetscBool* changed) const {
+PetscErrorCode SystemAssembler::rescale_rotations(Vec U, Vec V, Parametrization param, PetscBool* changed) const {
   PetscFunctionBeginUser;
-  PetscScalar *u, *v;
-  PetscCall(VecGetArray(U, &u));
-  PetscCall(VecGetArray(V, &v));
-  PetscBool any = PETSC_FALSE;
+  const bool rates = param == Parametrization::rotation_vector_rates;
   const int lo = dofs_.owned_begin();
-  for (std::size_t b = 0; b < model_.blocks.size(); ++b) {
-    const DofBlock& blk = model_.blocks[b];
-    if (blk.fixed || blk.kind != SlotKind::rotation || dofs_.block_owner(static_cast<int>(b)) != dofs_.rank()) continue;
-    const int g = dofs_.block_dof(static_cast<int>(b)) - lo;
-    const Vec3 phi(u[g], u[g + 1], u[g + 2]);
-    if (phi.norm() <= std::numbers::pi) continue;
-    const Vec3 phi_new = rescaled_rotation_vector(phi);
-    const Vec3 omega = tangent_operator(phi) * Vec3(v[g], v[g + 1], v[g + 2]);
-    const Vec3 rate_new = tangent_operator_inverse(phi_new) * omega;
-    for (int i = 0; i < 3; ++i) {
-      u[g + i] = phi_new(i);
-      v[g + i] = rate_new(i);
+  std::vector<int> due;  // local offsets of rotation blocks beyond pi
+  {
+    const PetscScalar* ur;
+    PetscCall(VecGetArrayRead(U, &ur));
+    for (std::size_t b = 0; b < model_.blocks.size(); ++b) {
+      const DofBlock& blk = model_.blocks[b];
+      if (blk.fixed || blk.kind != SlotKind::rotation || dofs_.block_owner(static_cast<int>(b)) != dofs_.rank()) continue;
+      const int g = dofs_.block_dof(static_cast<int>(b)) - lo;
+      if (Vec3(ur[g], ur[g + 1], ur[g + 2]).norm() > std::numbers::pi) due.push_back(g);
     }
-    any = PETSC_TRUE;
+    PetscCall(VecRestoreArrayRead(U, &ur));
   }
-  PetscCall(VecRestoreArray(U, &u));
-  PetscCall(VecRestoreArray(V, &v));
+  // Write access only when something changes: TS restarts the step whenever the state of the
+  // solution vector changes in a post-step hook.
+  PetscBool any = due.empty() ? PETSC_FALSE : PETSC_TRUE;
+  PetscScalar *u = nullptr, *v = nullptr;
+  if (any) {
+    PetscCall(VecGetArray(U, &u));
+    if (rates) PetscCall(VecGetArray(V, &v));
+  }
+  for (int g : due) {
+    const Vec3 phi(u[g], u[g + 1], u[g + 2]);
+    const Vec3 phi_new = rescaled_rotation_vector(phi);
+    for (int i = 0; i < 3; ++i) u[g + i] = phi_new(i);
+    if (rates) {
+      const Vec3 omega = tangent_operator(phi) * Vec3(v[g], v[g + 1], v[g + 2]);
+      const Vec3 rate_new = tangent_operator_inverse(phi_new) * omega;
+      for (int i = 0; i < 3; ++i) v[g + i] = rate_new(i);
+    }
+  }
+  if (any) {
+    PetscCall(VecRestoreArray(U, &u));
+    if (rates) PetscCall(VecRestoreArray(V, &v));
+  }
   PetscCall(MPIU_Allreduce(&any, changed, 1, MPIU_BOOL, MPI_LOR, comm_));
   PetscFunctionReturn(0);
 }
@@ -531,6 +545,33 @@ PetscErrorCode SystemAssembler::rates_to_velocities(Vec U, Vec V) const {
 
 PetscErrorCode SystemAssembler::velocities_to_rates(Vec U, Vec V) const {
   return map_rotation_rates(model_, dofs_, U, V, [](const Vec3& phi, const Vec3& w) { return Vec3(tangent_operator_inverse(phi) * w); });
+}
+
+PetscErrorCode SystemAssembler::max_constraint_violation(Vec U, double t, double* value, int* constraint) {
+  PetscFunctionBeginUser;
+  PetscCall(scatter_in(EvaluationPoint{U, nullptr, nullptr, nullptr, t, t}));
+  EvaluationSettings how;
+  compute_states(how, false, 1.0, 0.0, 0.0);
+  struct {
+    double value;
+    int index;
+  } local{-1.0, -1}, global{-1.0, -1};
+  auto state_of = [this](int b) -> const BlockState& { return state_[b]; };
+  for (int c : dofs_.local_constraints()) {
+    const Constraint& con = model_.constraints[c];
+    ConstraintInputs in;
+    in.model = &model_;
+    in.constraint = &con;
+    in.block_state = state_of;
+    in.drive = con.drive >= 0 ? model_.drives[con.drive].evaluate(t) : DriveValue{};
+    const ConstraintEval ce = evaluate_constraint(in);
+    const double v = ce.g.head(ce.rows).cwiseAbs().maxCoeff();
+    if (v > local.value) local = {v, c};
+  }
+  PetscCallMPI(MPI_Allreduce(&local, &global, 1, MPI_DOUBLE_INT, MPI_MAXLOC, comm_));
+  *value = std::max(global.value, 0.0);
+  *constraint = global.index;
+  PetscFunctionReturn(0);
 }
 
 PetscErrorCode SystemAssembler::gather(double t, Vec U, Vec V, Vec A, Parametrization param, ModelState* state) {

@@ -59,12 +59,17 @@ class SystemAssembler {
   PetscErrorCode jacobian(const EvaluationPoint& at, const EvaluationSettings& how, double cq, double cv,
                           double ca, Mat J);
 
-  /// Rescales rotation vectors with |phi| > pi to the same rotation with |phi| <= pi and maps
-  /// their rates so that omega is unchanged (rotation-vector rates). Collective.
-  PetscErrorCode rescale_rotations(Vec U, Vec V, PetscBool* changed) const;
+  /// Rescales rotation vectors with |phi| > pi to the same rotation with |phi| <= pi. Rotation-
+  /// vector rates in V are mapped so that omega is unchanged; velocity variables need no change
+  /// (V may then be null). Collective.
+  PetscErrorCode rescale_rotations(Vec U, Vec V, Parametrization param, PetscBool* changed) const;
   /// Converts rotation-vector rates to velocity variables (omega) and back, in place.
   PetscErrorCode rates_to_velocities(Vec U, Vec V) const;
   PetscErrorCode velocities_to_rates(Vec U, Vec V) const;
+
+  /// Largest |g| over all constraints at U and time t, and the constraint where it occurs
+  /// (-1 without constraints). Collective; every rank gets the result.
+  PetscErrorCode max_constraint_violation(Vec U, double t, double* value, int* constraint);
 
   /// Gathers the state to rank 0 and loads it into `state` there (other ranks: untouched).
   PetscErrorCode gather(double t, Vec U, Vec V, Vec A, Parametrization param, ModelState* state);

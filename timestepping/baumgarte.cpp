@@ -1,0 +1,225 @@
+// Baumgarte route: every right-hand side evaluation assembles and factorises the saddle-point
+// matrix (same pattern every time, so the symbolic factorisation is reused) and returns
+// x_dot = [q_dot(q, dq), a]. Multipliers are algebraic outputs kept beside the state.
+#include "timestepping/baumgarte.hpp"
+
+#include <chrono>
+#include <cstdio>
+
+namespace latticedyn {
+
+BaumgarteIntegrator::BaumgarteIntegrator(SystemAssembler& sa, DynamicSettings settings) : sa_(sa), settings_(settings) {
+  const MPI_Comm comm = sa_.comm();
+  for (Vec* v : {&U_, &V_, &A_, &b_, &y_, &Ulam0_}) PetscCallAbort(comm, sa_.create_vector(v));
+  PetscCallAbort(comm, VecCreateMPI(comm, 2 * sa_.dofs().owned_size(), 2 * sa_.dofs().global_size(), &X_));
+  PetscCallAbort(comm, sa_.create_matrix(&S_));
+  const int lo = sa_.dofs().owned_begin();
+  for (std::size_t c = 0; c < sa_.model().constraints.size(); ++c) {
+    const int g = sa_.dofs().multiplier_dof(static_cast<int>(c));
+    if (g < lo || g >= sa_.dofs().owned_end()) continue;
+    for (int i = 0; i < sa_.model().constraints[c].rows(); ++i) multipliers_.push_back(g - lo + i);
+  }
+
+  PetscCallAbort(comm, KSPCreate(comm, &ksp_));
+  PetscCallAbort(comm, set_direct_solver_defaults(ksp_));
+  PetscCallAbort(comm, KSPSetFromOptions(ksp_));
+
+  PetscCallAbort(comm, TSCreate(comm, &ts_));
+  PetscCallAbort(comm, TSSetType(ts_, TSRK));
+  PetscCallAbort(comm, TSRKSetType(ts_, settings_.rk_type.c_str()));
+  PetscCallAbort(comm, TSSetApplicationContext(ts_, this));
+  PetscCallAbort(comm, TSSetRHSFunction(ts_, nullptr, rhs, this));
+  PetscCallAbort(comm, TSSetTime(ts_, settings_.t_start));
+  PetscCallAbort(comm, TSSetTimeStep(ts_, settings_.time_step));
+  PetscCallAbort(comm, TSSetMaxTime(ts_, settings_.t_end));
+  PetscCallAbort(comm, TSSetMaxSteps(ts_, settings_.max_steps));
+  PetscCallAbort(comm, TSSetExactFinalTime(ts_, TS_EXACTFINALTIME_MATCHSTEP));
+  PetscCallAbort(comm, TSSetPostStep(ts_, post_step));
+  PetscCallAbort(comm, TSMonitorSet(ts_, monitor, this, nullptr));
+  TSAdapt adapt;
+  PetscCallAbort(comm, TSGetAdapt(ts_, &adapt));
+  PetscCallAbort(comm, TSAdaptSetType(adapt, settings_.adaptive ? TSADAPTBASIC : TSADAPTNONE));
+  PetscCallAbort(comm, TSSetTolerances(ts_, settings_.atol, nullptr, settings_.rtol, nullptr));
+  PetscCallAbort(comm, TSSetFromOptions(ts_));
+}
+
+BaumgarteIntegrator::~BaumgarteIntegrator() {
+  TSDestroy(&ts_);
+  KSPDestroy(&ksp_);
+  MatDestroy(&S_);
+  for (Vec* v : {&X_, &U_, &V_, &A_, &b_, &y_, &Ulam0_}) VecDestroy(v);
+}
+
+PetscErrorCode BaumgarteIntegrator::unpack(Vec X, Vec U, Vec V) const {
+  const PetscScalar* x;
+  PetscScalar *u, *v;
+  PetscFunctionBeginUser;
+  const int n = sa_.dofs().owned_size();
+  PetscCall(VecGetArrayRead(X, &x));
+  PetscCall(VecGetArray(U, &u));
+  PetscCall(VecGetArray(V, &v));
+  // The multipliers of U are not part of x: keep the latest ones.
+  std::vector<double> keep;
+  for (PetscInt i : multipliers_) keep.push_back(u[i]);
+  std::copy(x, x + n, u);
+  std::copy(x + n, x + 2 * n, v);
+  for (std::size_t k = 0; k < multipliers_.size(); ++k) u[multipliers_[k]] = keep[k];
+  PetscCall(VecRestoreArrayRead(X, &x));
+  PetscCall(VecRestoreArray(U, &u));
+  PetscCall(VecRestoreArray(V, &v));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode BaumgarteIntegrator::pack(Vec U, Vec V, Vec X) const {
+  PetscScalar* x;
+  const PetscScalar *u, *v;
+  PetscFunctionBeginUser;
+  const int n = sa_.dofs().owned_size();
+  PetscCall(VecGetArray(X, &x));
+  PetscCall(VecGetArrayRead(U, &u));
+  PetscCall(VecGetArrayRead(V, &v));
+  std::copy(u, u + n, x);
+  std::copy(v, v + n, x + n);
+  for (PetscInt i : multipliers_) x[i] = x[n + i] = 0.0;
+  PetscCall(VecRestoreArray(X, &x));
+  PetscCall(VecRestoreArrayRead(U, &u));
+  PetscCall(VecRestoreArrayRead(V, &v));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode BaumgarteIntegrator::accelerations(PetscReal t, Vec U, Vec V) {
+  PetscFunctionBeginUser;
+  PetscCall(VecCopy(U, Ulam0_));
+  PetscScalar* u;
+  PetscCall(VecGetArray(Ulam0_, &u));
+  for (PetscInt i : multipliers_) u[i] = 0.0;
+  PetscCall(VecRestoreArray(Ulam0_, &u));
+
+  EvaluationSettings how;
+  how.param = Parametrization::velocity_variables;
+  how.rows = ConstraintRows::acceleration;
+  how.baumgarte_alpha = settings_.baumgarte_alpha;
+  how.baumgarte_beta = settings_.baumgarte_beta;
+  const EvaluationPoint at{Ulam0_, V, nullptr, nullptr, t, t};
+  PetscBool finite;
+  PetscCall(sa_.residual(at, how, b_, &finite));  // [F - f_ext; Gamma*] at a = 0, lambda = 0
+  PetscCheck(finite, sa_.comm(), PETSC_ERR_FP, "non-finite forces at t = %g", (double)t);
+  PetscCall(VecScale(b_, -1.0));
+  PetscCall(sa_.jacobian(at, how, 0.0, 0.0, 1.0, S_));  // [M G^T; G 0]
+  PetscCall(KSPSetOperators(ksp_, S_, S_));
+  PetscCall(KSPSolve(ksp_, b_, y_));
+  KSPConvergedReason reason;
+  PetscCall(KSPGetConvergedReason(ksp_, &reason));
+  PetscCheck(reason >= 0, sa_.comm(), PETSC_ERR_NOT_CONVERGED,
+             "the saddle-point system [M G^T; G 0] could not be solved at t = %g (%s): redundant constraints or a "
+             "massless free DoF?",
+             (double)t, KSPConvergedReasons[reason]);
+  PetscCall(VecCopy(y_, A_));
+  PetscScalar *a, *uu;
+  const PetscScalar* y;
+  PetscCall(VecGetArray(A_, &a));
+  PetscCall(VecGetArray(U, &uu));
+  PetscCall(VecGetArrayRead(y_, &y));
+  for (PetscInt i : multipliers_) {
+    uu[i] = y[i];
+    a[i] = 0.0;
+  }
+  PetscCall(VecRestoreArray(A_, &a));
+  PetscCall(VecRestoreArray(U, &uu));
+  PetscCall(VecRestoreArrayRead(y_, &y));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode BaumgarteIntegrator::rhs(TS, PetscReal t, Vec X, Vec Xdot, void* ctx) {
+  auto* self = static_cast<BaumgarteIntegrator*>(ctx);
+  PetscFunctionBeginUser;
+  PetscCall(self->unpack(X, self->U_, self->V_));
+  PetscCall(self->accelerations(t, self->U_, self->V_));
+  // q_dot: translations r_dot, rotations T(phi)^{-1} omega; then dq_dot = a.
+  Vec qdot = self->b_;  // free after the solve
+  PetscCall(VecCopy(self->V_, qdot));
+  PetscCall(self->sa_.velocities_to_rates(self->U_, qdot));
+  PetscCall(self->pack(qdot, self->A_, Xdot));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode BaumgarteIntegrator::post_step(TS ts) {
+  void* ctx;
+  Vec X;
+  PetscBool changed;
+  PetscFunctionBeginUser;
+  PetscCall(TSGetApplicationContext(ts, &ctx));
+  auto* self = static_cast<BaumgarteIntegrator*>(ctx);
+  PetscCall(TSGetSolution(ts, &X));
+  PetscCall(self->unpack(X, self->U_, self->V_));
+  PetscCall(self->sa_.rescale_rotations(self->U_, nullptr, Parametrization::velocity_variables, &changed));
+  if (changed) {
+    PetscCall(self->pack(self->U_, self->V_, X));
+    PetscCall(TSRestartStep(ts));  // first-same-as-last schemes must not reuse the old stage
+    ++self->report_->rotation_rescales;
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode BaumgarteIntegrator::monitor(TS ts, PetscInt step, PetscReal t, Vec X, void* ctx) {
+  auto* self = static_cast<BaumgarteIntegrator*>(ctx);
+  PetscFunctionBeginUser;
+  PetscCall(self->unpack(X, self->U_, self->V_));
+  PetscCall(self->accelerations(t, self->U_, self->V_));  // exact a and lambda at this state
+  PetscReal t_prev;
+  PetscInt rejects;
+  PetscCall(TSGetPrevTime(ts, &t_prev));
+  PetscCall(TSGetStepRejections(ts, &rejects));
+  double violation;
+  int where;
+  PetscCall(self->sa_.max_constraint_violation(self->U_, t, &violation, &where));
+  DynamicReport& r = *self->report_;
+  if (violation > r.max_violation || r.violation_constraint < 0) {
+    r.max_violation = violation;
+    r.violation_constraint = where;
+  }
+  r.steps = step;
+  r.time_reached = t;
+  r.rejected_steps = rejects;
+  if (self->observer_) {
+    StepInfo info{static_cast<int>(step), t, t - t_prev, self->U_, self->V_, self->A_,
+                  Parametrization::velocity_variables, 0, rejects};
+    PetscCall(self->observer_->on_step(info));
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode BaumgarteIntegrator::run(Vec U, Vec V, StepObserver* observer, DynamicReport* report) {
+  PetscFunctionBeginUser;
+  *report = DynamicReport{};
+  observer_ = observer;
+  report_ = report;
+  const auto start = std::chrono::steady_clock::now();
+  PetscCall(VecCopy(U, U_));
+  PetscCall(VecCopy(V, V_));
+  PetscCall(sa_.rates_to_velocities(U_, V_));
+  PetscCall(pack(U_, V_, X_));
+  PetscCall(TSSolve(ts_, X_));
+  PetscCall(unpack(X_, U_, V_));
+  PetscCall(VecCopy(U_, U));
+  PetscCall(VecCopy(V_, V));
+  PetscCall(sa_.velocities_to_rates(U, V));
+  report->wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+  TSConvergedReason reason;
+  PetscReal t;
+  PetscCall(TSGetConvergedReason(ts_, &reason));
+  PetscCall(TSGetTime(ts_, &t));
+  report->time_reached = t;
+  report->completed = reason > 0;
+  char buf[512];
+  if (report->completed)
+    std::snprintf(buf, sizeof buf, "reached t = %.6g s", t);
+  else
+    std::snprintf(buf, sizeof buf, "dynamics stopped at t = %.6g s (step %ld): TS %s", t, report->steps,
+                  TSConvergedReasons[reason]);
+  report->message = buf;
+  PetscFunctionReturn(0);
+}
+
+}  // namespace latticedyn

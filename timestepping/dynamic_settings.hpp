@@ -1,0 +1,40 @@
+// Settings of a dynamic simulation and the summary it ends with, shared by both integrators.
+#pragma once
+
+#include <string>
+
+namespace latticedyn {
+
+enum class IntegratorKind {
+  generalized_alpha,  ///< TSALPHA2 on the index-3 system (default)
+  baumgarte           ///< state space with Baumgarte stabilisation, PETSc TSRK (thesis 4.5)
+};
+
+struct DynamicSettings {
+  IntegratorKind integrator = IntegratorKind::generalized_alpha;
+  double t_start = 0.0;
+  double t_end = 1.0;
+  double time_step = 1e-3;
+  double rho_infinity = 0.9;      ///< generalized-alpha spectral radius at infinite frequency
+  bool adaptive = false;          ///< TSAdapt basic on the local error estimate
+  double rtol = 1e-4, atol = 1e-6;
+  int max_steps = 100000000;
+  double baumgarte_alpha = 10.0;  ///< [1/s], (4-27); the thesis suggests half the lowest natural frequency
+  double baumgarte_beta = 1.0;
+  std::string rk_type = "5dp";    ///< TSRK scheme of the Baumgarte route
+};
+
+struct DynamicReport {
+  bool completed = false;
+  double time_reached = 0.0;
+  long steps = 0;
+  long newton_iterations = 0;
+  long rejected_steps = 0;
+  long rotation_rescales = 0;
+  double wall_seconds = 0.0;
+  double max_violation = 0.0;     ///< over all accepted steps
+  int violation_constraint = -1;
+  std::string message;            ///< what failed and where, or a summary
+};
+
+}  // namespace latticedyn

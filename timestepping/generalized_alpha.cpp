@@ -1,0 +1,235 @@
+// TSALPHA2 callbacks. PETSc evaluates the residual at the stage point (t_a, U_a, V_a, A_a) with
+// U_a = U_0 + alpha_f (U_1 - U_0). Force balance stays there, but the constraint rows are
+// evaluated at the reconstructed end of the step U_1 (so g(q_{n+1}) = 0 exactly, no drift), and
+// the multipliers are taken from U_1 too: they are algebraic, and reading them there makes the
+// stored multiplier the force that balances the stage instead of an extrapolation that would
+// oscillate step to step.
+#include "timestepping/generalized_alpha.hpp"
+
+#include <chrono>
+#include <cstdio>
+#include <limits>
+
+namespace latticedyn {
+
+GeneralizedAlphaIntegrator::GeneralizedAlphaIntegrator(SystemAssembler& sa, DynamicSettings settings)
+    : sa_(sa), settings_(settings) {
+  const MPI_Comm comm = sa_.comm();
+  PetscCallAbort(comm, sa_.create_matrix(&J_));
+  for (Vec* v : {&F_, &Uc_, &V_prev_, &A_est_}) PetscCallAbort(comm, sa_.create_vector(v));
+  PetscCallAbort(comm, TSCreate(comm, &ts_));
+  PetscCallAbort(comm, TSSetType(ts_, TSALPHA2));
+  PetscCallAbort(comm, TSSetApplicationContext(ts_, this));
+  PetscCallAbort(comm, TSSetI2Function(ts_, F_, i2function, this));
+  PetscCallAbort(comm, TSSetI2Jacobian(ts_, J_, J_, i2jacobian, this));
+  PetscCallAbort(comm, TSAlpha2SetRadius(ts_, settings_.rho_infinity));
+  PetscCallAbort(comm, TSSetTime(ts_, settings_.t_start));
+  PetscCallAbort(comm, TSSetTimeStep(ts_, settings_.time_step));
+  PetscCallAbort(comm, TSSetMaxTime(ts_, settings_.t_end));
+  PetscCallAbort(comm, TSSetMaxSteps(ts_, settings_.max_steps));
+  PetscCallAbort(comm, TSSetExactFinalTime(ts_, TS_EXACTFINALTIME_MATCHSTEP));
+  PetscCallAbort(comm, TSSetPostStep(ts_, post_step));
+  PetscCallAbort(comm, TSMonitorSet(ts_, monitor, this, nullptr));
+
+  TSAdapt adapt;
+  PetscCallAbort(comm, TSGetAdapt(ts_, &adapt));
+  PetscCallAbort(comm, TSAdaptSetType(adapt, settings_.adaptive ? TSADAPTBASIC : TSADAPTNONE));
+  if (settings_.adaptive) {
+    // The multipliers are algebraic: leave them out of the local error estimate.
+    Vec vatol, vrtol;
+    PetscCallAbort(comm, sa_.create_vector(&vatol));
+    PetscCallAbort(comm, sa_.create_vector(&vrtol));
+    PetscCallAbort(comm, VecSet(vatol, settings_.atol));
+    PetscCallAbort(comm, VecSet(vrtol, settings_.rtol));
+    for (std::size_t c = 0; c < sa_.model().constraints.size(); ++c) {
+      if (sa_.dofs().multiplier_dof(static_cast<int>(c)) < sa_.dofs().owned_begin() ||
+          sa_.dofs().multiplier_dof(static_cast<int>(c)) >= sa_.dofs().owned_end())
+        continue;
+      for (int i = 0; i < sa_.model().constraints[c].rows(); ++i) {
+        const PetscInt g = sa_.dofs().multiplier_dof(static_cast<int>(c)) + i;
+        PetscCallAbort(comm, VecSetValue(vatol, g, 1e300, INSERT_VALUES));
+        PetscCallAbort(comm, VecSetValue(vrtol, g, 1e300, INSERT_VALUES));
+      }
+    }
+    for (Vec v : {vatol, vrtol}) {
+      PetscCallAbort(comm, VecAssemblyBegin(v));
+      PetscCallAbort(comm, VecAssemblyEnd(v));
+    }
+    PetscCallAbort(comm, TSSetTolerances(ts_, 0.0, vatol, 0.0, vrtol));
+    PetscCallAbort(comm, VecDestroy(&vatol));
+    PetscCallAbort(comm, VecDestroy(&vrtol));
+    PetscCallAbort(comm, TSSetMaxSNESFailures(ts_, -1));  // a failed Newton solve shrinks the step
+  }
+
+  SNES snes;
+  KSP ksp;
+  PetscCallAbort(comm, TSGetSNES(ts_, &snes));
+  PetscCallAbort(comm, SNESSetType(snes, SNESNEWTONLS));
+  SNESLineSearch ls;
+  PetscCallAbort(comm, SNESGetLineSearch(snes, &ls));
+  PetscCallAbort(comm, SNESLineSearchSetType(ls, SNESLINESEARCHBASIC));  // full Newton steps
+  const double force_scale = std::max(1.0, sa_.characteristic_mass() * std::max(1.0, sa_.model().gravity.norm()));
+  PetscCallAbort(comm, SNESSetTolerances(snes, 1e-10 * force_scale, 1e-10, 1e-14, 25, 100000));
+  PetscCallAbort(comm, SNESGetKSP(snes, &ksp));
+  PetscCallAbort(comm, set_direct_solver_defaults(ksp));
+  PetscCallAbort(comm, TSSetFromOptions(ts_));  // -ts_, -snes_, -ksp_, -pc_ options win
+}
+
+GeneralizedAlphaIntegrator::~GeneralizedAlphaIntegrator() {
+  TSDestroy(&ts_);
+  MatDestroy(&J_);
+  for (Vec* v : {&F_, &Uc_, &V_prev_, &A_est_}) VecDestroy(v);
+}
+
+PetscErrorCode GeneralizedAlphaIntegrator::stage(PetscReal ta, Vec Ua, Vec Va, Vec Aa, EvaluationPoint* at,
+                                                 EvaluationSettings* how) {
+  PetscReal am, af, gamma, beta, t0, dt;
+  Vec U0;
+  PetscFunctionBeginUser;
+  PetscCall(TSAlpha2GetParams(ts_, &am, &af, &gamma, &beta));
+  PetscCall(TSGetTime(ts_, &t0));
+  PetscCall(TSGetTimeStep(ts_, &dt));
+  PetscCall(TSGetSolution(ts_, &U0));  // still U_n while the stage is solved
+  // U_1 = U_0 + (U_a - U_0) / alpha_f; with alpha_f = 1 (PETSc's start-up Euler steps) U_1 = U_a.
+  PetscCall(VecWAXPY(Uc_, -1.0, U0, Ua));
+  PetscCall(VecAYPX(Uc_, 1.0 / af, U0));
+  *at = EvaluationPoint{Ua, Va, Aa, Uc_, ta, t0 + (ta - t0) / af};
+  how->param = Parametrization::rotation_vector_rates;
+  how->rows = ConstraintRows::position;
+  how->uc_per_u = 1.0 / af;
+  // Constraint rows weigh like the mass block of the Jacobian, m / (beta h^2) (scaled by
+  // alpha_m / alpha_f as PETSc's shift), so the saddle point stays well conditioned as h -> 0.
+  how->constraint_scale = sa_.characteristic_mass() * am / (af * beta * dt * dt);
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode GeneralizedAlphaIntegrator::i2function(TS ts, PetscReal t, Vec U, Vec V, Vec A, Vec F, void* ctx) {
+  auto* self = static_cast<GeneralizedAlphaIntegrator*>(ctx);
+  EvaluationPoint at;
+  EvaluationSettings how;
+  PetscBool finite;
+  PetscFunctionBeginUser;
+  PetscCall(self->stage(t, U, V, A, &at, &how));
+  PetscCall(self->sa_.residual(at, how, F, &finite));
+  if (!finite) {
+    SNES snes;
+    PetscCall(TSGetSNES(ts, &snes));
+    PetscCall(SNESSetFunctionDomainError(snes));
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode GeneralizedAlphaIntegrator::i2jacobian(TS, PetscReal t, Vec U, Vec V, Vec A, PetscReal shift_v,
+                                                      PetscReal shift_a, Mat J, Mat, void* ctx) {
+  auto* self = static_cast<GeneralizedAlphaIntegrator*>(ctx);
+  EvaluationPoint at;
+  EvaluationSettings how;
+  PetscFunctionBeginUser;
+  PetscCall(self->stage(t, U, V, A, &at, &how));
+  PetscCall(self->sa_.jacobian(at, how, 1.0, shift_v, shift_a, J));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode GeneralizedAlphaIntegrator::post_step(TS ts) {
+  void* ctx;
+  Vec U, V;
+  PetscBool changed;
+  PetscFunctionBeginUser;
+  PetscCall(TSGetApplicationContext(ts, &ctx));
+  auto* self = static_cast<GeneralizedAlphaIntegrator*>(ctx);
+  PetscCall(TS2GetSolution(ts, &U, &V));
+  PetscCall(self->sa_.rescale_rotations(U, V, Parametrization::rotation_vector_rates, &changed));
+  if (changed) {
+    // TSALPHA2 keeps the acceleration internally; a restart recomputes it for the new coordinates.
+    PetscCall(TSRestartStep(ts));
+    ++self->report_->rotation_rescales;
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode GeneralizedAlphaIntegrator::monitor(TS ts, PetscInt step, PetscReal t, Vec, void* ctx) {
+  auto* self = static_cast<GeneralizedAlphaIntegrator*>(ctx);
+  Vec U, V;
+  PetscInt snes_its, rejects;
+  PetscReal dt, t_prev;
+  PetscFunctionBeginUser;
+  PetscCall(TS2GetSolution(ts, &U, &V));
+  PetscCall(TSGetSNESIterations(ts, &snes_its));
+  PetscCall(TSGetStepRejections(ts, &rejects));
+  PetscCall(TSGetTimeStep(ts, &dt));
+  PetscCall(TSGetPrevTime(ts, &t_prev));
+  // TSALPHA2 keeps its acceleration private: output estimates it from the last velocity change.
+  if (step > 0 && t > t_prev) {
+    PetscCall(VecWAXPY(self->A_est_, -1.0, self->V_prev_, V));
+    PetscCall(VecScale(self->A_est_, 1.0 / (t - t_prev)));
+  } else {
+    PetscCall(VecZeroEntries(self->A_est_));
+  }
+  PetscCall(VecCopy(V, self->V_prev_));
+
+  double violation;
+  int where;
+  PetscCall(self->sa_.max_constraint_violation(U, t, &violation, &where));
+  DynamicReport& r = *self->report_;
+  if (violation > r.max_violation || r.violation_constraint < 0) {
+    r.max_violation = violation;
+    r.violation_constraint = where;
+  }
+  r.steps = step;
+  r.time_reached = t;
+  r.newton_iterations = snes_its;
+  r.rejected_steps = rejects;
+  if (self->observer_) {
+    StepInfo info{static_cast<int>(step), t, t - t_prev, U, V, self->A_est_, Parametrization::rotation_vector_rates,
+                  snes_its, rejects};
+    PetscCall(self->observer_->on_step(info));
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode GeneralizedAlphaIntegrator::run(Vec U, Vec V, StepObserver* observer, DynamicReport* report) {
+  PetscFunctionBeginUser;
+  *report = DynamicReport{};
+  observer_ = observer;
+  report_ = report;
+  const auto start = std::chrono::steady_clock::now();
+  PetscCall(TS2SetSolution(ts_, U, V));
+  PetscCall(TSSolve(ts_, U));
+  Vec Uend, Vend;
+  PetscCall(TS2GetSolution(ts_, &Uend, &Vend));
+  PetscCall(VecCopy(Uend, U));
+  PetscCall(VecCopy(Vend, V));
+  report->wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+  TSConvergedReason reason;
+  PetscCall(TSGetConvergedReason(ts_, &reason));
+  PetscReal t;
+  PetscCall(TSGetTime(ts_, &t));
+  report->time_reached = t;
+  report->completed = reason > 0;
+  char buf[768];
+  if (report->completed) {
+    std::snprintf(buf, sizeof buf, "reached t = %.6g s", t);
+  } else {
+    SNES snes;
+    SNESConvergedReason sr;
+    PetscReal fnorm;
+    PetscInt its;
+    PetscCall(TSGetSNES(ts_, &snes));
+    PetscCall(SNESGetConvergedReason(snes, &sr));
+    PetscCall(SNESGetFunctionNorm(snes, &fnorm));
+    PetscCall(SNESGetIterationNumber(snes, &its));
+    double violation;
+    int where;
+    PetscCall(sa_.max_constraint_violation(U, t, &violation, &where));
+    std::snprintf(buf, sizeof buf,
+                  "dynamics stopped at t = %.6g s (step %ld): TS %s; the last Newton solve ended %s after %d "
+                  "iterations with residual %.3g; largest violation: %s",
+                  t, report->steps, TSConvergedReasons[reason], SNESConvergedReasons[sr], static_cast<int>(its), fnorm,
+                  describe_violation(sa_.model(), violation, where).c_str());
+  }
+  report->message = buf;
+  PetscFunctionReturn(0);
+}
+
+}  // namespace latticedyn

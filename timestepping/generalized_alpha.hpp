@@ -1,0 +1,44 @@
+// Dynamics with PETSc's generalized-alpha method for second-order systems (TSALPHA2) on the
+// index-3 equations of motion: forces balanced at t_{n+alpha_f}, constraints g(q_{n+1}) = 0
+// scaled to the mass block, rotation vectors rescaled after each step.
+#pragma once
+
+#include "timestepping/dynamic_settings.hpp"
+#include "timestepping/solver_setup.hpp"
+
+#include <petscts.h>
+
+namespace latticedyn {
+
+class GeneralizedAlphaIntegrator {
+ public:
+  GeneralizedAlphaIntegrator(SystemAssembler& assembler, DynamicSettings settings);
+  ~GeneralizedAlphaIntegrator();
+  GeneralizedAlphaIntegrator(const GeneralizedAlphaIntegrator&) = delete;
+  GeneralizedAlphaIntegrator& operator=(const GeneralizedAlphaIntegrator&) = delete;
+
+  /// U (coordinates, multipliers) and V (rotation-vector rates) at t_start in, at the end (or
+  /// where it failed) out. The observer sees the initial state and every accepted step.
+  PetscErrorCode run(Vec U, Vec V, StepObserver* observer, DynamicReport* report);
+
+  TS ts() const { return ts_; }
+
+ private:
+  static PetscErrorCode i2function(TS ts, PetscReal t, Vec U, Vec V, Vec A, Vec F, void* ctx);
+  static PetscErrorCode i2jacobian(TS ts, PetscReal t, Vec U, Vec V, Vec A, PetscReal shift_v, PetscReal shift_a, Mat J,
+                                   Mat P, void* ctx);
+  static PetscErrorCode post_step(TS ts);
+  static PetscErrorCode monitor(TS ts, PetscInt step, PetscReal t, Vec U, void* ctx);
+  /// The stage's end-of-step state Uc = U0 + (Ua - U0)/alpha_f, its time, and the settings.
+  PetscErrorCode stage(PetscReal ta, Vec Ua, Vec Va, Vec Aa, EvaluationPoint* at, EvaluationSettings* how);
+
+  SystemAssembler& sa_;
+  DynamicSettings settings_;
+  TS ts_ = nullptr;
+  Mat J_ = nullptr;
+  Vec F_ = nullptr, Uc_ = nullptr, V_prev_ = nullptr, A_est_ = nullptr;
+  StepObserver* observer_ = nullptr;
+  DynamicReport* report_ = nullptr;
+};
+
+}  // namespace latticedyn

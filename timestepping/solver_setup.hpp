@@ -1,0 +1,40 @@
+// What every solver of this layer shares: the default sparse direct linear solver (overridable by
+// PETSc options), the step observer interface, and the report of a failure.
+#pragma once
+
+#include "assembly/system_assembler.hpp"
+
+#include <petscksp.h>
+
+#include <string>
+
+namespace latticedyn {
+
+/// KSP defaults for the saddle-point systems: no Krylov iterations, a sparse LU with pivoting
+/// (MUMPS, or UMFPACK when MUMPS is missing). -ksp_type, -pc_type and
+/// -pc_factor_mat_solver_type given on the command line or in the model still win, because the
+/// callers apply the options database afterwards.
+PetscErrorCode set_direct_solver_defaults(KSP ksp);
+
+/// A snapshot after an accepted step (or the initial state, step 0). U, V are the distributed
+/// coordinates/multipliers and rates in `param`; A may be null.
+struct StepInfo {
+  int step = 0;
+  double time = 0.0;
+  double dt = 0.0;
+  Vec U = nullptr, V = nullptr, A = nullptr;
+  Parametrization param = Parametrization::rotation_vector_rates;
+  long newton_iterations = 0;  ///< cumulative
+  long rejected_steps = 0;     ///< cumulative
+};
+
+class StepObserver {
+ public:
+  virtual ~StepObserver() = default;
+  virtual PetscErrorCode on_step(const StepInfo& info) = 0;
+};
+
+/// "constraint 'hinge' (revolute), |g| = 1.2e-3" or "no constraints".
+std::string describe_violation(const Model& model, double value, int constraint);
+
+}  // namespace latticedyn

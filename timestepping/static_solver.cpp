@@ -1,0 +1,119 @@
+// Static equilibrium by Newton's method on the assembled system, with gravity and nodal loads
+// ramped in increments and a failed increment halved, as a path-following safeguard for large
+// deflections.
+#include "timestepping/static_solver.hpp"
+
+#include <algorithm>
+#include <cstdio>
+
+namespace latticedyn {
+
+StaticSolver::StaticSolver(SystemAssembler& sa, StaticSettings settings) : sa_(sa), settings_(settings) {
+  PetscCallAbort(sa_.comm(), sa_.create_matrix(&J_));
+  PetscCallAbort(sa_.comm(), sa_.create_vector(&F_));
+  PetscCallAbort(sa_.comm(), SNESCreate(sa_.comm(), &snes_));
+  PetscCallAbort(sa_.comm(), SNESSetFunction(snes_, F_, form_function, this));
+  PetscCallAbort(sa_.comm(), SNESSetJacobian(snes_, J_, J_, form_jacobian, this));
+  PetscCallAbort(sa_.comm(), SNESSetType(snes_, SNESNEWTONLS));
+  PetscCallAbort(sa_.comm(), SNESSetTolerances(snes_, settings_.atol, settings_.rtol, 0.0, settings_.max_iterations, 100000));
+  KSP ksp;
+  PetscCallAbort(sa_.comm(), SNESGetKSP(snes_, &ksp));
+  PetscCallAbort(sa_.comm(), set_direct_solver_defaults(ksp));
+  PetscCallAbort(sa_.comm(), SNESSetFromOptions(snes_));  // every -snes_/-ksp_/-pc_ option wins
+}
+
+StaticSolver::~StaticSolver() {
+  SNESDestroy(&snes_);
+  MatDestroy(&J_);
+  VecDestroy(&F_);
+}
+
+EvaluationSettings StaticSolver::evaluation() const {
+  EvaluationSettings how;
+  how.param = Parametrization::rotation_vector_rates;
+  how.load_scale = load_factor_;
+  // Constraint rows in force units: a violation weighs like the force that would close it.
+  how.constraint_scale = sa_.characteristic_stiffness();
+  return how;
+}
+
+PetscErrorCode StaticSolver::form_function(SNES snes, Vec U, Vec F, void* ctx) {
+  auto* self = static_cast<StaticSolver*>(ctx);
+  PetscBool finite = PETSC_TRUE;
+  PetscFunctionBeginUser;
+  const double t = self->settings_.time;
+  PetscCall(self->sa_.residual(EvaluationPoint{U, nullptr, nullptr, nullptr, t, t}, self->evaluation(), F, &finite));
+  if (!finite) PetscCall(SNESSetFunctionDomainError(snes));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode StaticSolver::form_jacobian(SNES, Vec U, Mat J, Mat, void* ctx) {
+  auto* self = static_cast<StaticSolver*>(ctx);
+  PetscFunctionBeginUser;
+  const double t = self->settings_.time;
+  PetscCall(self->sa_.jacobian(EvaluationPoint{U, nullptr, nullptr, nullptr, t, t}, self->evaluation(), 1.0, 0.0, 0.0, J));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode StaticSolver::solve(Vec U, StaticReport* report) {
+  PetscFunctionBeginUser;
+  StaticReport r;
+  Vec last;
+  PetscCall(VecDuplicate(U, &last));
+  PetscCall(VecCopy(U, last));
+
+  const int steps = std::max(1, settings_.load_steps);
+  double reached = 0.0;
+  double increment = 1.0 / steps;
+  int cuts = 0;
+  SNESConvergedReason reason = SNES_CONVERGED_ITERATING;
+  while (reached < 1.0 - 1e-12) {
+    load_factor_ = std::min(1.0, reached + increment);
+    PetscCall(SNESSolve(snes_, nullptr, U));
+    PetscInt its;
+    PetscCall(SNESGetIterationNumber(snes_, &its));
+    PetscCall(SNESGetConvergedReason(snes_, &reason));
+    PetscCall(SNESGetFunctionNorm(snes_, &r.residual_norm));
+    r.newton_iterations += static_cast<int>(its);
+    if (reason > 0) {
+      reached = load_factor_;
+      ++r.increments;
+      PetscBool changed;
+      PetscCall(sa_.rescale_rotations(U, nullptr, Parametrization::velocity_variables, &changed));  // rates are zero
+      PetscCall(VecCopy(U, last));
+      continue;
+    }
+    if (++cuts > settings_.max_cuts) break;
+    increment *= 0.5;  // back to the last equilibrium with a smaller step
+    PetscCall(VecCopy(last, U));
+  }
+  r.converged = reached >= 1.0 - 1e-12;
+  r.load_factor = reached;
+  PetscCall(sa_.max_constraint_violation(r.converged ? U : last, settings_.time, &r.max_violation, &r.violation_constraint));
+
+  char buf[512];
+  if (r.converged) {
+    std::snprintf(buf, sizeof buf,
+                  "static equilibrium found: %d load increment(s), %d Newton iterations, residual %.3g; largest violation: %s",
+                  r.increments, r.newton_iterations, r.residual_norm,
+                  describe_violation(sa_.model(), r.max_violation, r.violation_constraint).c_str());
+  } else {
+    const char* why = SNESConvergedReasons[reason];
+    const char* hint = reason == SNES_DIVERGED_LINEAR_SOLVE
+                           ? " (the linear system is singular: a free body without mass or stiffness, or a mechanism "
+                             "with an unconstrained motion?)"
+                           : "";
+    std::snprintf(buf, sizeof buf,
+                  "static equilibrium failed at load factor %.4g (last equilibrium at %.4g): SNES %s%s, Newton residual "
+                  "%.3g after %d iterations; largest violation: %s",
+                  load_factor_, reached, why, hint, r.residual_norm, r.newton_iterations,
+                  describe_violation(sa_.model(), r.max_violation, r.violation_constraint).c_str());
+  }
+  r.message = buf;
+  if (!r.converged) PetscCall(VecCopy(last, U));
+  PetscCall(VecDestroy(&last));
+  *report = r;
+  PetscFunctionReturn(0);
+}
+
+}  // namespace latticedyn

@@ -1,0 +1,57 @@
+// Static equilibrium (thesis 5.1.1, "nonlinear equation solution"): F(q) + G^T lambda = f_ext,
+// g(q) = 0 with rates zero, solved by PETSc SNES (Newton with line search) under load ramping.
+#pragma once
+
+#include "timestepping/solver_setup.hpp"
+
+#include <petscsnes.h>
+
+#include <string>
+
+namespace latticedyn {
+
+struct StaticSettings {
+  double time = 0.0;       ///< time at which drives and loads are evaluated
+  int load_steps = 1;      ///< equal increments of gravity and nodal loads
+  int max_cuts = 8;        ///< halvings of a failed increment before giving up
+  double rtol = 1e-10;     ///< SNES relative residual tolerance
+  double atol = 1e-8;      ///< SNES absolute residual tolerance (scaled units: N)
+  int max_iterations = 50;
+};
+
+struct StaticReport {
+  bool converged = false;
+  int increments = 0;           ///< accepted load increments
+  int newton_iterations = 0;    ///< total
+  double residual_norm = 0.0;   ///< at the end (or where it failed)
+  double load_factor = 0.0;     ///< reached
+  double max_violation = 0.0;
+  int violation_constraint = -1;
+  std::string message;          ///< what failed and where, or a summary
+};
+
+class StaticSolver {
+ public:
+  StaticSolver(SystemAssembler& assembler, StaticSettings settings);
+  ~StaticSolver();
+  StaticSolver(const StaticSolver&) = delete;
+  StaticSolver& operator=(const StaticSolver&) = delete;
+
+  /// U: initial guess in, equilibrium (coordinates and multipliers) out. On failure U holds the
+  /// last converged load level and the report says where and why it failed. Collective.
+  PetscErrorCode solve(Vec U, StaticReport* report);
+
+ private:
+  static PetscErrorCode form_function(SNES, Vec U, Vec F, void* ctx);
+  static PetscErrorCode form_jacobian(SNES, Vec U, Mat J, Mat P, void* ctx);
+  EvaluationSettings evaluation() const;
+
+  SystemAssembler& sa_;
+  StaticSettings settings_;
+  SNES snes_ = nullptr;
+  Mat J_ = nullptr;
+  Vec F_ = nullptr;
+  double load_factor_ = 1.0;
+};
+
+}  // namespace latticedyn
