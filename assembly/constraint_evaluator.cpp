@@ -43,14 +43,44 @@ void joint_frame(const Joint& j, const BlockState& t, const BlockState* r, Vec3&
   frame_of<double>(j, t.pos, r ? &r->rot : nullptr, pos, rot);
 }
 
-ConstraintEval evaluate_constraint(const ConstraintInputs& in) {
+namespace {
+
+// The two AD levels: first order (G, g_u) for residuals, second order (also dG/dq, Gamma) for
+// Jacobians and the acceleration-level rows. A rotation is perturbed on the right; to second order
+// only the mixed eps-delta term matters: R (I + skew(eps)) (I + skew(delta)).
+struct FirstOrder {
+  using S = Inner;
+  static S var(double v, int i) { return inner_var(v, i); }
+  static S constant(double v) { return Inner(v); }
+  static Mat3T<S> perturbed(const Mat3& R, int c) {
+    Vec3T<S> delta;
+    for (int i = 0; i < 3; ++i) delta(i) = inner_var(0.0, c + i);
+    return R.cast<S>() * (Mat3T<S>::Identity() + skew(delta));
+  }
+};
+
+struct SecondOrder {
+  using S = Outer;
+  static S var(double v, int i) { return both_var(v, i); }
+  static S constant(double v) { return outer_const(Inner(v)); }
+  static Mat3T<S> perturbed(const Mat3& R, int c) {
+    Vec3T<S> eps, delta;
+    for (int i = 0; i < 3; ++i) {
+      eps(i) = Outer(Inner(0.0));
+      eps(i).derivatives()(c + i) = Inner(1.0);
+      delta(i) = outer_const(inner_var(0.0, c + i));
+    }
+    return R.cast<Inner>().cast<S>() * (Mat3T<S>::Identity() + skew(eps)) * (Mat3T<S>::Identity() + skew(delta));
+  }
+};
+
+// Joint frames with seeds on the distinct free blocks (3 directions each, in order of appearance);
+// records the blocks and the column count in `out`.
+template <class Level>
+JointPairFrames<typename Level::S> seeded_frames(const ConstraintInputs& in, ConstraintEval& out) {
+  using S = typename Level::S;
   const Model& model = *in.model;
   const Constraint& c = *in.constraint;
-  const Joint* joints[2] = {&model.joints[c.joint1], &model.joints[c.joint2]};
-  ConstraintEval out;
-  out.rows = c.rows();
-
-  // Distinct free blocks of both joints get 3 seed directions each, in order of appearance.
   auto column_of = [&](int block) -> int {
     if (block < 0 || model.blocks[block].fixed) return -1;
     for (int k = 0; k < 4; ++k) {
@@ -63,34 +93,48 @@ ConstraintEval evaluate_constraint(const ConstraintInputs& in) {
     }
     return -1;
   };
-
-  JointPairFrames<Outer> f;
+  JointPairFrames<S> f;
   for (int side = 0; side < 2; ++side) {
-    const Joint& j = *joints[side];
+    const Joint& j = model.joints[side == 0 ? c.joint1 : c.joint2];
     const BlockState& ts = in.block_state(j.translation_block);
-    Vec3T<Outer> r;
+    Vec3T<S> r;
     const int ct = column_of(j.translation_block);
-    for (int i = 0; i < 3; ++i) r(i) = ct >= 0 ? both_var(ts.pos(i), ct + i) : outer_const(Inner(ts.pos(i)));
-    Mat3T<Outer> R;
-    const Mat3T<Outer>* Rp = nullptr;
+    for (int i = 0; i < 3; ++i) r(i) = ct >= 0 ? Level::var(ts.pos(i), ct + i) : Level::constant(ts.pos(i));
+    Mat3T<S> R;
+    const Mat3T<S>* Rp = nullptr;
     if (j.rotation_block >= 0) {
       const BlockState& rs = in.block_state(j.rotation_block);
       const int cr = column_of(j.rotation_block);
-      R = rs.rot.cast<Inner>().cast<Outer>();
-      if (cr >= 0) {
-        // R (I + skew(eps)) (I + skew(delta)): first order in each, with the eps-delta cross term.
-        Vec3T<Outer> eps, delta;
-        for (int i = 0; i < 3; ++i) {
-          eps(i) = Outer(Inner(0.0));
-          eps(i).derivatives()(cr + i) = Inner(1.0);
-          delta(i) = outer_const(inner_var(0.0, cr + i));
-        }
-        R = R * (Mat3T<Outer>::Identity() + skew(eps)) * (Mat3T<Outer>::Identity() + skew(delta));
-      }
+      R = cr >= 0 ? Level::perturbed(rs.rot, cr) : Mat3T<S>(rs.rot.cast<Inner>().template cast<S>());
       Rp = &R;
     }
-    frame_of<Outer>(j, r, Rp, side == 0 ? f.r1 : f.r2, side == 0 ? f.R1 : f.R2);
+    frame_of<S>(j, r, Rp, side == 0 ? f.r1 : f.r2, side == 0 ? f.R1 : f.R2);
   }
+  return f;
+}
+
+ConstraintEval first_order(const ConstraintInputs& in) {
+  ConstraintEval out;
+  out.rows = in.constraint->rows();
+  const JointPairFrames<Inner> f = seeded_frames<FirstOrder>(in, out);
+  Inner g[ConstraintEval::kMaxRows];
+  constraint_values<Inner>(*in.constraint, f, inner_var(in.drive.value, kU), g);
+  for (int r = 0; r < out.rows; ++r) {
+    out.g(r) = g[r].value();
+    for (int k = 0; k < out.cols; ++k) out.G(r, k) = g[r].derivatives()(k);
+    out.g_u(r) = g[r].derivatives()(kU);
+  }
+  return out;
+}
+
+}  // namespace
+
+ConstraintEval evaluate_constraint(const ConstraintInputs& in) {
+  if (!in.lambda && !in.with_velocity_terms) return first_order(in);
+  const Constraint& c = *in.constraint;
+  ConstraintEval out;
+  out.rows = c.rows();
+  const JointPairFrames<Outer> f = seeded_frames<SecondOrder>(in, out);
 
   const Outer u = both_var(in.drive.value, kU);
   Outer g[ConstraintEval::kMaxRows];

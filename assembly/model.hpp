@@ -25,6 +25,13 @@ struct DofBlock {
   Vec3 velocity0 = Vec3::Zero();     ///< translation: r_dot; rotation: body omega; scalar: (0)
   std::string label;                 ///< where it comes from, for messages ("boom.end2")
   int size() const { return slot_size(kind); }
+
+  static DofBlock translation(const Vec3& position, const Vec3& velocity, std::string label, bool fixed = false) {
+    return DofBlock{SlotKind::translation, fixed, position, Mat3::Identity(), velocity, std::move(label)};
+  }
+  static DofBlock rotation(const Mat3& orientation, const Vec3& omega, std::string label, bool fixed = false) {
+    return DofBlock{SlotKind::rotation, fixed, Vec3::Zero(), orientation, omega, std::move(label)};
+  }
 };
 
 /// Binds an element slot to a block. For rotation slots the element's frame is the block frame

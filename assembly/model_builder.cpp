@@ -59,20 +59,10 @@ int ModelBuilder::add_joint(int body, Joint joint) {
 }
 
 int ModelBuilder::add_ground_joint(std::string name, const Vec3& position, const Mat3& frame) {
-  DofBlock t;
-  t.kind = SlotKind::translation;
-  t.fixed = true;
-  t.position0 = position;
-  t.label = name;
-  DofBlock r;
-  r.kind = SlotKind::rotation;
-  r.fixed = true;
-  r.orientation0 = frame;
-  r.label = name;
   Joint j;
+  j.translation_block = add_block(DofBlock::translation(position, Vec3::Zero(), name, true));
+  j.rotation_block = add_block(DofBlock::rotation(frame, Vec3::Zero(), name, true));
   j.name = std::move(name);
-  j.translation_block = add_block(std::move(t));
-  j.rotation_block = add_block(std::move(r));
   return add_joint(0, std::move(j));
 }
 

@@ -34,6 +34,7 @@ BaumgarteIntegrator::BaumgarteIntegrator(SystemAssembler& sa, DynamicSettings se
   PetscCallAbort(comm, TSSetMaxTime(ts_, settings_.t_end));
   PetscCallAbort(comm, TSSetMaxSteps(ts_, settings_.max_steps));
   PetscCallAbort(comm, TSSetExactFinalTime(ts_, TS_EXACTFINALTIME_MATCHSTEP));
+  PetscCallAbort(comm, TSSetErrorIfStepFails(ts_, PETSC_FALSE));  // we report failures ourselves
   PetscCallAbort(comm, TSSetPostStep(ts_, post_step));
   PetscCallAbort(comm, TSMonitorSet(ts_, monitor, this, nullptr));
   TSAdapt adapt;

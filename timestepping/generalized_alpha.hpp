@@ -30,13 +30,14 @@ class GeneralizedAlphaIntegrator {
   static PetscErrorCode post_step(TS ts);
   static PetscErrorCode monitor(TS ts, PetscInt step, PetscReal t, Vec U, void* ctx);
   /// The stage's end-of-step state Uc = U0 + (Ua - U0)/alpha_f, its time, and the settings.
-  PetscErrorCode stage(PetscReal ta, Vec Ua, Vec Va, Vec Aa, EvaluationPoint* at, EvaluationSettings* how);
+  PetscErrorCode stage(PetscReal ta, Vec Ua, Vec Va, Vec Aa, EvaluationPoint* at, EvaluationSettings* how,
+                       double* inertia_factor);
 
   SystemAssembler& sa_;
   DynamicSettings settings_;
   TS ts_ = nullptr;
   Mat J_ = nullptr;
-  Vec F_ = nullptr, Uc_ = nullptr, V_prev_ = nullptr, A_est_ = nullptr;
+  Vec F_ = nullptr, Uc_ = nullptr, V_prev_ = nullptr, A_est_ = nullptr, A_scaled_ = nullptr;
   StepObserver* observer_ = nullptr;
   DynamicReport* report_ = nullptr;
 };

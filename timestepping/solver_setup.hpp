@@ -4,17 +4,23 @@
 
 #include "assembly/system_assembler.hpp"
 
-#include <petscksp.h>
+#include <petscsnes.h>
 
 #include <string>
 
 namespace latticedyn {
 
 /// KSP defaults for the saddle-point systems: no Krylov iterations, a sparse LU with pivoting
-/// (MUMPS, or UMFPACK when MUMPS is missing). -ksp_type, -pc_type and
+/// (UMFPACK on one process, MUMPS on several). -ksp_type, -pc_type and
 /// -pc_factor_mat_solver_type given on the command line or in the model still win, because the
 /// callers apply the options database afterwards.
 PetscErrorCode set_direct_solver_defaults(KSP ksp);
+
+/// SNES convergence test: PETSc's default (atol, rtol, stol) plus "converged to round-off": once
+/// the residual has fallen below 1e-6 of its initial value and a Newton step no longer halves it,
+/// it has reached the floor set by the stiffest terms (e.g. E A of a steel bar times machine
+/// precision) and further iterations cannot improve it. Installed with the context it needs.
+PetscErrorCode set_roundoff_convergence_test(SNES snes);
 
 /// A snapshot after an accepted step (or the initial state, step 0). U, V are the distributed
 /// coordinates/multipliers and rates in `param`; A may be null.

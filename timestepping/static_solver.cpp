@@ -16,6 +16,7 @@ StaticSolver::StaticSolver(SystemAssembler& sa, StaticSettings settings) : sa_(s
   PetscCallAbort(sa_.comm(), SNESSetJacobian(snes_, J_, J_, form_jacobian, this));
   PetscCallAbort(sa_.comm(), SNESSetType(snes_, SNESNEWTONLS));
   PetscCallAbort(sa_.comm(), SNESSetTolerances(snes_, settings_.atol, settings_.rtol, 0.0, settings_.max_iterations, 100000));
+  PetscCallAbort(sa_.comm(), set_roundoff_convergence_test(snes_));
   KSP ksp;
   PetscCallAbort(sa_.comm(), SNESGetKSP(snes_, &ksp));
   PetscCallAbort(sa_.comm(), set_direct_solver_defaults(ksp));

@@ -27,18 +27,8 @@ inline BodyBlocks add_rigid_body(ModelBuilder& b, const std::string& name, doubl
                                  const Vec3& v = Vec3::Zero(), const Vec3& w = Vec3::Zero()) {
   BodyBlocks out;
   out.body = b.add_body(name, "rigid_body");
-  DofBlock t;
-  t.kind = SlotKind::translation;
-  t.position0 = pos;
-  t.velocity0 = v;
-  t.label = name;
-  DofBlock r;
-  r.kind = SlotKind::rotation;
-  r.orientation0 = rotation_matrix(phi);
-  r.velocity0 = w;
-  r.label = name;
-  out.t = b.add_block(t);
-  out.r = b.add_block(r);
+  out.t = b.add_block(DofBlock::translation(pos, v, name));
+  out.r = b.add_block(DofBlock::rotation(rotation_matrix(phi), w, name));
   b.add_element(out.body, std::make_shared<RigidBody>(box_properties(mass)), {{out.t}, {out.r}});
   return out;
 }
@@ -61,12 +51,8 @@ struct StrutBlocks {
 inline StrutBlocks add_strut(ModelBuilder& b, const std::string& name, const Vec3& p1, const Vec3& p2, double E = 1e7) {
   StrutBlocks out;
   out.body = b.add_body(name, "strut_tie");
-  DofBlock t;
-  t.kind = SlotKind::translation;
-  t.position0 = p1;
-  out.t1 = b.add_block(t);
-  t.position0 = p2;
-  out.t2 = b.add_block(t);
+  out.t1 = b.add_block(DofBlock::translation(p1, Vec3::Zero(), name + ".1"));
+  out.t2 = b.add_block(DofBlock::translation(p2, Vec3::Zero(), name + ".2"));
   StrutTieProperties p;
   p.material = Material{7800.0, E, 0.3};
   p.section = round_tube_section(0.02, 0.0);

@@ -54,12 +54,8 @@ Pendulum physical_pendulum(double angle) {
   const int pivot = b.add_ground_joint("ground.pivot", Vec3::Zero(), Mat3::Identity());
   const double L = 1.0, m = 2.0;
   const int body = b.add_body("rod", "rigid_body");
-  DofBlock t;
-  t.kind = SlotKind::translation;
-  DofBlock r;
-  r.kind = SlotKind::rotation;
-  r.orientation0 = rotation_matrix<double>(Vec3(0, angle, 0));
-  const int bt = b.add_block(t), br = b.add_block(r);
+  const int bt = b.add_block(DofBlock::translation(Vec3::Zero(), Vec3::Zero(), "rod"));
+  const int br = b.add_block(DofBlock::rotation(rotation_matrix<double>(Vec3(0, angle, 0)), Vec3::Zero(), "rod"));
   RigidBodyProperties p;
   p.mass = m;
   p.centroid = Vec3(0, 0, -L / 2);

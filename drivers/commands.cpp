@@ -1,0 +1,167 @@
+// check, static and run: set up the assembler, the results writer on rank 0 and the solvers, and
+// print what happened. Failures of the solvers are reported and leave the results written so far.
+#include "drivers/commands.hpp"
+
+#include "drivers/observers.hpp"
+#include "drivers/simulation.hpp"
+
+#include <cstdio>
+#include <map>
+#include <memory>
+
+namespace latticedyn {
+
+namespace {
+
+bool is_root(MPI_Comm comm) {
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  return rank == 0;
+}
+
+void print_root(MPI_Comm comm, const std::string& text) {
+  if (is_root(comm)) {
+    std::fputs(text.c_str(), stdout);
+    std::fflush(stdout);
+  }
+}
+
+std::string describe_model(const Model& m) {
+  std::map<std::string, int> types;
+  for (std::size_t b = 1; b < m.bodies.size(); ++b) ++types[m.bodies[b].type];
+  std::string bodies;
+  for (const auto& [t, n] : types) bodies += (bodies.empty() ? "" : ", ") + std::to_string(n) + " " + t;
+  char buf[512];
+  std::snprintf(buf, sizeof buf,
+                "model '%s': %zu bodies (%s), %zu joints, %zu constraints with %d multipliers, %zu loads, %zu drives; "
+                "%d free DoFs in %zu blocks\n",
+                m.title.c_str(), m.bodies.size() - 1, bodies.c_str(), m.joints.size(), m.constraints.size(),
+                m.num_multipliers(), m.loads.size(), m.drives.size(), m.num_free_dofs(), m.blocks.size());
+  return buf;
+}
+
+// Creates the writer on rank 0; a failure there (e.g. an unwritable folder) is shared with all
+// ranks so that they stop together.
+std::unique_ptr<ResultWriter> open_writer(const Simulation& sim, const CommandOptions& opt, MPI_Comm comm,
+                                          std::string* error) {
+  std::unique_ptr<ResultWriter> writer;
+  int ok = 1;
+  if (is_root(comm)) {
+    try {
+      ResultWriterOptions o;
+      o.directory = opt.output_directory.empty() ? sim.output.directory : opt.output_directory;
+      o.base_name = sim.output.name;
+      o.probe_joints = sim.output.probe_joints;
+      writer = std::make_unique<ResultWriter>(sim.model, o);
+    } catch (const std::exception& e) {
+      *error = e.what();
+      ok = 0;
+    }
+  }
+  MPI_Bcast(&ok, 1, MPI_INT, 0, comm);
+  if (!ok && !is_root(comm)) *error = "the results could not be opened on rank 0";
+  return writer;
+}
+
+std::string where_results(const ResultWriter* w) {
+  if (!w) return "";
+  return "results: " + w->h5_path().string() + " (open " + w->xdmf_path().string() + " in ParaView), probes: " +
+         w->csv_path().string() + "\n";
+}
+
+// Runs statics and/or dynamics with results, progress and the closing summary.
+int command_solve(Simulation& sim, const CommandOptions& opt, MPI_Comm comm, bool statics, bool dynamics) {
+  if (!opt.output_directory.empty()) sim.output.directory = opt.output_directory;
+  print_root(comm, describe_model(sim.model));
+  std::string error;
+  auto writer = open_writer(sim, opt, comm, &error);
+  if (!error.empty()) {
+    print_root(comm, "latticedyn: error: " + error + "\n");
+    return kInputError;
+  }
+  SystemAssembler sa(sim.model, comm);
+  Vec U, V;
+  PetscCallAbort(comm, sa.create_vector(&U));
+  PetscCallAbort(comm, sa.create_vector(&V));
+  PetscCallAbort(comm, sa.initial_state(U, V));
+
+  const double t0 = dynamics ? sim.dynamics.t_start : sim.statics.time;
+  const double t1 = dynamics ? sim.dynamics.t_end : sim.statics.time;
+  OutputObserver out(sa, writer.get(), sim.output.interval, t1);
+  ProgressObserver progress(comm, t0, t1);
+  ObserverList observers;
+  observers.add(&out);
+  observers.add(&progress);
+  SimulationOutcome outcome;
+  PetscCallAbort(comm, simulate(sim, sa, U, V, statics, dynamics, &observers, &outcome));
+  progress.done();
+  // The last state is written even when a solver stopped early (for statics: the equilibrium,
+  // or the last converged load level).
+  const double t_last = outcome.dynamics_run ? outcome.dynamics.time_reached : t0;
+  PetscCallAbort(comm, out.finish(t_last, U, V, Parametrization::rotation_vector_rates));
+
+  std::string text;
+  if (outcome.static_run) text += (outcome.statics.converged ? "" : "latticedyn: error: ") + outcome.statics.message + "\n";
+  if (outcome.dynamics_run) {
+    const DynamicReport& r = outcome.dynamics;
+    char buf[1024];
+    const double simulated = r.time_reached - sim.dynamics.t_start;
+    std::snprintf(buf, sizeof buf,
+                  "dynamics %s: %ld steps (%ld rejected), %ld Newton iterations (%.2f per step), %ld rotation "
+                  "rescales, wall %.3g s (%.3g x real time), %d outputs; largest constraint violation over the run: %s\n",
+                  r.completed ? "completed" : "FAILED", r.steps, r.rejected_steps, r.newton_iterations,
+                  r.steps ? static_cast<double>(r.newton_iterations) / r.steps : 0.0, r.rotation_rescales, r.wall_seconds,
+                  r.wall_seconds > 0 ? simulated / r.wall_seconds : 0.0, out.written(),
+                  describe_violation(sim.model, r.max_violation, r.violation_constraint).c_str());
+    if (!r.completed) text += "latticedyn: error: " + r.message + "\n";
+    text += buf;
+  }
+  print_root(comm, text + where_results(writer.get()));
+  VecDestroy(&U);
+  VecDestroy(&V);
+  return outcome.ok() ? kSuccess : kSolverFailure;
+}
+
+}  // namespace
+
+int command_check(const Simulation& sim, MPI_Comm comm) {
+  print_root(comm, describe_model(sim.model));
+  DofMap dofs(sim.model, 0, 1);
+  ModelState state(sim.model, dofs);
+  std::vector<double> u(dofs.global_size(), 0.0);
+  for (std::size_t b = 0; b < sim.model.blocks.size(); ++b) {
+    const DofBlock& blk = sim.model.blocks[b];
+    if (blk.fixed || blk.kind == SlotKind::rotation) continue;
+    for (int i = 0; i < blk.size(); ++i) u[dofs.block_dof(static_cast<int>(b)) + i] = blk.position0(i);
+  }
+  state.set(sim.run_dynamics ? sim.dynamics.t_start : sim.statics.time, u, {}, {}, Parametrization::rotation_vector_rates);
+  const auto [violation, where] = state.max_constraint_violation();
+  std::string text = "initial state: largest constraint violation " + describe_violation(sim.model, violation, where) + "\n";
+  if (sim.run_static) text += "solver: static equilibrium first\n";
+  if (sim.run_dynamics) {
+    char buf[256];
+    std::snprintf(buf, sizeof buf, "solver: %s from t = %g to %g s, time step %g\n",
+                  sim.dynamics.integrator == IntegratorKind::baumgarte ? "Baumgarte / Runge-Kutta" : "generalized-alpha",
+                  sim.dynamics.t_start, sim.dynamics.t_end, sim.dynamics.time_step);
+    text += buf;
+  }
+  text += "output: " + sim.output.directory + "/" + sim.output.name + ".h5\nthe model is valid\n";
+  print_root(comm, text);
+  return kSuccess;
+}
+
+int command_static(Simulation& sim, const CommandOptions& opt, MPI_Comm comm) {
+  return command_solve(sim, opt, comm, true, false);
+}
+
+int command_run(Simulation& sim, const CommandOptions& opt, MPI_Comm comm) {
+  if (!sim.run_dynamics) {
+    print_root(comm, "latticedyn: error: " + sim.source +
+                         ": the model has no solver.dynamics section; add one (t_end, time_step) or use "
+                         "'latticedyn static'\n");
+    return kInputError;
+  }
+  return command_solve(sim, opt, comm, sim.run_static, true);
+}
+
+}  // namespace latticedyn

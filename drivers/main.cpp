@@ -1,0 +1,91 @@
+// latticedyn: command line entry point. Parses the command and model file, hands every other
+// argument to PETSc (so any -ts_/-snes_/-ksp_/-pc_ option and -log_view work) and maps errors
+// to exit codes: 0 success, 1 solver failure, 2 bad input or usage, 3 internal error.
+#include "drivers/commands.hpp"
+#include "io/input_node.hpp"
+
+#include <petscsys.h>
+
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <vector>
+
+namespace {
+
+const char* kUsage =
+    "usage: latticedyn <command> MODEL.yaml [--output DIR] [PETSc options]\n"
+    "commands:\n"
+    "  check    validate the model and describe it\n"
+    "  static   find the static equilibrium and write it\n"
+    "  run      static equilibrium if the model asks for it, then the dynamics\n"
+    "  help     this text\n"
+    "Every other option goes to PETSc, e.g. -ts_adapt_type basic, -snes_monitor, -pc_factor_mat_solver_type\n"
+    "umfpack, -log_view. Results go to the model's output.directory (default results/<model name>).\n";
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace latticedyn;
+  if (argc < 2 || !std::strcmp(argv[1], "help") || !std::strcmp(argv[1], "--help") || !std::strcmp(argv[1], "-h")) {
+    std::fputs(kUsage, argc < 2 ? stderr : stdout);
+    return argc < 2 ? kInputError : kSuccess;
+  }
+  const std::string command = argv[1];
+  if (command != "check" && command != "static" && command != "run") {
+    std::fprintf(stderr, "latticedyn: error: unknown command '%s'\n%s", command.c_str(), kUsage);
+    return kInputError;
+  }
+  CommandOptions options;
+  std::vector<char*> petsc_args{argv[0]};
+  for (int i = 2; i < argc; ++i) {
+    if (!std::strcmp(argv[i], "--output")) {
+      if (i + 1 >= argc) {
+        std::fprintf(stderr, "latticedyn: error: --output needs a directory\n");
+        return kInputError;
+      }
+      options.output_directory = argv[++i];
+    } else if (options.model_path.empty() && argv[i][0] != '-') {
+      options.model_path = argv[i];
+    } else {
+      petsc_args.push_back(argv[i]);
+    }
+  }
+  if (options.model_path.empty()) {
+    std::fprintf(stderr, "latticedyn: error: '%s' needs a model file\n%s", command.c_str(), kUsage);
+    return kInputError;
+  }
+
+  int pargc = static_cast<int>(petsc_args.size());
+  petsc_args.push_back(nullptr);
+  char** pargv = petsc_args.data();
+  if (PetscInitialize(&pargc, &pargv, nullptr, nullptr) != 0) return kInternalError;
+  PetscMPIInt size = 1, rank = 0;
+  MPI_Comm_size(PETSC_COMM_WORLD, &size);
+  MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
+  // An error on one rank must end the run on all ranks with its message, never hang the others.
+  if (size > 1) PetscPushErrorHandler(PetscMPIAbortErrorHandler, nullptr);
+
+  int code = kSuccess;
+  try {
+    // Every rank reads the model; an input error is the same on all of them.
+    Simulation sim = read_simulation(options.model_path);
+    // Options from the model first, then the command line again so that it wins.
+    if (!sim.petsc_options.empty()) {
+      PetscCallAbort(PETSC_COMM_WORLD, PetscOptionsInsertString(nullptr, sim.petsc_options.c_str()));
+      PetscCallAbort(PETSC_COMM_WORLD, PetscOptionsInsert(nullptr, &pargc, &pargv, nullptr));
+    }
+    if (command == "check") code = command_check(sim, PETSC_COMM_WORLD);
+    if (command == "static") code = command_static(sim, options, PETSC_COMM_WORLD);
+    if (command == "run") code = command_run(sim, options, PETSC_COMM_WORLD);
+  } catch (const InputError& e) {
+    if (rank == 0) std::fprintf(stderr, "latticedyn: error: %s\n", e.what());
+    code = kInputError;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "latticedyn: internal error on rank %d: %s\n", rank, e.what());
+    if (size > 1) MPI_Abort(PETSC_COMM_WORLD, kInternalError);
+    code = kInternalError;
+  }
+  PetscFinalize();
+  return code;
+}

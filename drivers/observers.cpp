@@ -1,0 +1,82 @@
+// Output at intervals and the progress line.
+#include "drivers/observers.hpp"
+
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+
+namespace latticedyn {
+
+OutputObserver::OutputObserver(SystemAssembler& sa, ResultWriter* writer, double interval, double t_end)
+    : sa_(sa), writer_(writer), state_(sa.model(), sa.dofs()), interval_(interval), t_end_(t_end) {}
+
+PetscErrorCode OutputObserver::write(double t, Vec U, Vec V, Vec A, Parametrization param) {
+  PetscFunctionBeginUser;
+  PetscCall(sa_.gather(t, U, V, A, param, &state_));
+  if (writer_) PetscCallCXX(writer_->append(state_));
+  last_written_ = t;
+  ++written_;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode OutputObserver::on_step(const StepInfo& info) {
+  PetscFunctionBeginUser;
+  const double eps = 1e-9 * std::max(1.0, std::abs(info.time));
+  const bool first = written_ == 0;
+  const bool due = info.time >= next_ - eps;
+  const bool last = info.time >= t_end_ - eps;
+  if (first || due || last) {
+    PetscCall(write(info.time, info.U, info.V, info.A, info.param));
+    if (interval_ > 0) {
+      // Next multiple of the interval after this time, so outputs stay on a regular grid.
+      next_ = (std::floor((info.time + eps) / interval_) + 1) * interval_;
+    }
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode OutputObserver::finish(double t, Vec U, Vec V, Parametrization param) {
+  PetscFunctionBeginUser;
+  if (t != last_written_) PetscCall(write(t, U, V, nullptr, param));
+  PetscFunctionReturn(0);
+}
+
+ProgressObserver::ProgressObserver(MPI_Comm comm, double t_start, double t_end)
+    : t_start_(t_start), t_end_(t_end), start_(std::chrono::steady_clock::now()), last_print_(start_) {
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  root_ = rank == 0;
+  tty_ = isatty(fileno(stderr)) != 0;
+}
+
+PetscErrorCode ProgressObserver::on_step(const StepInfo& info) {
+  if (!root_) return 0;
+  const auto now = std::chrono::steady_clock::now();
+  const double elapsed = std::chrono::duration<double>(now - start_).count();
+  const double since = std::chrono::duration<double>(now - last_print_).count();
+  // Nothing for runs shorter than a second; then a line every 0.5 s on a terminal, 5 s in logs.
+  if (elapsed < 1.0 || since < (tty_ ? 0.5 : 5.0)) return 0;
+  last_print_ = now;
+  const double done = (info.time - t_start_) / (t_end_ - t_start_);
+  const double eta = done > 0 ? elapsed * (1 - done) / done : 0.0;
+  const double newton = info.step > 0 ? static_cast<double>(info.newton_iterations) / info.step : 0.0;
+  std::fprintf(stderr, "%st = %.4g / %.4g s (%5.1f%%)  step %d  dt %.2e  Newton %.2f/step  elapsed %.1f s  ETA %.1f s%s",
+               tty_ ? "\r" : "", info.time, t_end_, 100 * done, info.step, info.dt, newton, elapsed, eta,
+               tty_ ? "   " : "\n");
+  std::fflush(stderr);
+  shown_ = true;
+  return 0;
+}
+
+void ProgressObserver::done() {
+  if (root_ && shown_ && tty_) std::fprintf(stderr, "\n");
+}
+
+PetscErrorCode ObserverList::on_step(const StepInfo& info) {
+  PetscFunctionBeginUser;
+  for (StepObserver* o : observers_) PetscCall(o->on_step(info));
+  PetscFunctionReturn(0);
+}
+
+}  // namespace latticedyn

@@ -1,0 +1,59 @@
+// What a run shows and keeps while it goes: results written at the output interval, a progress
+// line on stderr (simulated time, steps, ETA) for runs longer than a second.
+#pragma once
+
+#include "io/result_writer.hpp"
+#include "timestepping/solver_setup.hpp"
+
+#include <chrono>
+#include <memory>
+#include <vector>
+
+namespace latticedyn {
+
+/// Gathers the state to rank 0 and appends it to the results every `interval` simulated
+/// seconds (every step for 0), always including the first and the last state.
+class OutputObserver final : public StepObserver {
+ public:
+  OutputObserver(SystemAssembler& sa, ResultWriter* writer_on_root, double interval, double t_end);
+  PetscErrorCode on_step(const StepInfo& info) override;
+  /// Writes (t, U, V) unless it was the last state written.
+  PetscErrorCode finish(double t, Vec U, Vec V, Parametrization param);
+  int written() const { return written_; }
+
+ private:
+  PetscErrorCode write(double t, Vec U, Vec V, Vec A, Parametrization param);
+  SystemAssembler& sa_;
+  ResultWriter* writer_;
+  ModelState state_;
+  double interval_, t_end_;
+  double next_ = 0.0, last_written_ = -1e300;
+  int written_ = 0;
+};
+
+class ProgressObserver final : public StepObserver {
+ public:
+  ProgressObserver(MPI_Comm comm, double t_start, double t_end);
+  PetscErrorCode on_step(const StepInfo& info) override;
+  /// Ends the progress line (if one was shown).
+  void done();
+
+ private:
+  bool root_ = false;
+  double t_start_, t_end_;
+  std::chrono::steady_clock::time_point start_, last_print_;
+  bool shown_ = false;
+  bool tty_ = false;
+};
+
+/// Forwards every step to several observers.
+class ObserverList final : public StepObserver {
+ public:
+  void add(StepObserver* o) { observers_.push_back(o); }
+  PetscErrorCode on_step(const StepInfo& info) override;
+
+ private:
+  std::vector<StepObserver*> observers_;
+};
+
+}  // namespace latticedyn

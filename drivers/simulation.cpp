@@ -1,0 +1,36 @@
+// Static equilibrium, then dynamics with the integrator the model names.
+#include "drivers/simulation.hpp"
+
+#include "timestepping/baumgarte.hpp"
+#include "timestepping/generalized_alpha.hpp"
+#include "timestepping/static_solver.hpp"
+
+namespace latticedyn {
+
+PetscErrorCode simulate(Simulation& sim, SystemAssembler& sa, Vec U, Vec V, bool statics, bool dynamics,
+                        StepObserver* observer, SimulationOutcome* outcome) {
+  PetscFunctionBeginUser;
+  *outcome = SimulationOutcome{};
+  if (statics) {
+    StaticSettings st = sim.statics;
+    if (dynamics) st.time = sim.dynamics.t_start;  // the dynamics start from this equilibrium
+    StaticSolver solver(sa, st);
+    outcome->static_run = true;
+    PetscCall(solver.solve(U, &outcome->statics));
+    PetscCall(VecZeroEntries(V));
+    if (!outcome->statics.converged) PetscFunctionReturn(0);
+  }
+  if (dynamics) {
+    outcome->dynamics_run = true;
+    if (sim.dynamics.integrator == IntegratorKind::baumgarte) {
+      BaumgarteIntegrator integrator(sa, sim.dynamics);
+      PetscCall(integrator.run(U, V, observer, &outcome->dynamics));
+    } else {
+      GeneralizedAlphaIntegrator integrator(sa, sim.dynamics);
+      PetscCall(integrator.run(U, V, observer, &outcome->dynamics));
+    }
+  }
+  PetscFunctionReturn(0);
+}
+
+}  // namespace latticedyn

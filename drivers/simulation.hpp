@@ -1,0 +1,25 @@
+// One simulation as the model file describes it: static equilibrium if asked, then dynamics with
+// the chosen integrator. Shared by the latticedyn commands and the verification runner.
+#pragma once
+
+#include "io/model_reader.hpp"
+#include "timestepping/solver_setup.hpp"
+
+namespace latticedyn {
+
+struct SimulationOutcome {
+  bool static_run = false;
+  StaticReport statics;
+  bool dynamics_run = false;
+  DynamicReport dynamics;
+  bool ok() const { return (!static_run || statics.converged) && (!dynamics_run || dynamics.completed); }
+};
+
+/// U, V: the initial state (SystemAssembler::initial_state) in, the final state out (rotation-
+/// vector rates). With `statics` the equilibrium replaces U and the rates are zeroed; with
+/// `dynamics` the integrator runs from t_start to t_end and `observer` sees every step. The
+/// dynamics are skipped when the equilibrium fails. Collective.
+PetscErrorCode simulate(Simulation& sim, SystemAssembler& sa, Vec U, Vec V, bool statics, bool dynamics,
+                        StepObserver* observer, SimulationOutcome* outcome);
+
+}  // namespace latticedyn

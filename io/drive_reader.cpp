@@ -1,0 +1,76 @@
+// Drive functions from YAML; parameter checks of core/drive become located input errors.
+#include "io/drive_reader.hpp"
+
+#include <stdexcept>
+
+namespace latticedyn {
+
+namespace {
+
+Drive make(const InputNode& n) {
+  const std::string type =
+      n["type"].as_choice({"constant", "trapezoidal", "cosine_step", "cosine_full", "tanh", "sine", "table", "sum"});
+  if (type == "constant") {
+    n.allow_only({"type", "value"});
+    return Drive::Constant{n["value"].as_double()};
+  }
+  if (type == "trapezoidal") {
+    n.allow_only({"type", "start", "duration", "accel_time", "decel_time", "distance", "initial"});
+    Drive::TrapezoidalVelocity p;
+    p.t_start = n.get_double("start", 0.0);
+    p.duration = n["duration"].as_positive();
+    p.accel_time = n["accel_time"].as_positive();
+    p.decel_time = n["decel_time"].as_positive();
+    p.distance = n["distance"].as_double();
+    p.initial = n.get_double("initial", 0.0);
+    return p;
+  }
+  if (type == "cosine_step") {
+    n.allow_only({"type", "t_start", "t_end", "y_start", "y_end"});
+    return Drive::CosineStep{n["t_start"].as_double(), n["t_end"].as_double(), n["y_start"].as_double(), n["y_end"].as_double()};
+  }
+  if (type == "cosine_full") {
+    n.allow_only({"type", "t1", "t2", "y1", "y2"});
+    return Drive::CosineFull{n["t1"].as_double(), n["t2"].as_double(), n["y1"].as_double(), n["y2"].as_double()};
+  }
+  if (type == "tanh") {
+    n.allow_only({"type", "t1", "t2", "y1", "y2", "confidence", "lambda"});
+    if (n.has("confidence") == n.has("lambda")) n.fail("give exactly one of 'confidence' (Table E-1) or 'lambda'");
+    double lambda = 0.0;
+    if (auto c = n.get("confidence")) {
+      try {
+        lambda = tanh_confidence_coefficient(c->as_double());
+      } catch (const std::invalid_argument& e) {
+        c->fail(e.what());
+      }
+    } else {
+      lambda = n["lambda"].as_positive();
+    }
+    return Drive::TanhStep{n["t1"].as_double(), n["t2"].as_double(), n["y1"].as_double(), n["y2"].as_double(), lambda};
+  }
+  if (type == "sine") {
+    n.allow_only({"type", "amplitude", "frequency", "phase", "offset"});
+    return Drive::Sine{n["amplitude"].as_double(), n["frequency"].as_non_negative(), n.get_double("phase", 0.0),
+                       n.get_double("offset", 0.0)};
+  }
+  if (type == "table") {
+    n.allow_only({"type", "times", "values", "zero_end_rates"});
+    return Drive::Table{n["times"].as_doubles(), n["values"].as_doubles(), n.get_bool("zero_end_rates", true)};
+  }
+  n.allow_only({"type", "terms"});
+  Drive::Sum sum;
+  for (const InputNode& t : n["terms"].items()) sum.terms.push_back(read_drive(t));
+  return sum;
+}
+
+}  // namespace
+
+Drive read_drive(const InputNode& n) {
+  try {
+    return make(n);
+  } catch (const std::invalid_argument& e) {
+    n.fail(e.what());
+  }
+}
+
+}  // namespace latticedyn

@@ -1,0 +1,12 @@
+// Reads a drive function (thesis Appendix E, (8-3)) from its YAML map.
+#pragma once
+
+#include "core/drive.hpp"
+#include "io/input_node.hpp"
+
+namespace latticedyn {
+
+/// {type: constant | trapezoidal | cosine_step | cosine_full | tanh | sine | table | sum, ...}.
+Drive read_drive(const InputNode& n);
+
+}  // namespace latticedyn

@@ -1,0 +1,162 @@
+// HDF5 helpers of the results writer. Every call's failure is turned into an exception at once,
+// while HDF5's error stack still describes it.
+#include "io/hdf5_file.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+#include <utility>
+
+namespace latticedyn::io {
+
+namespace {
+constexpr hsize_t kMaxChunkSteps = 64;
+constexpr hsize_t kChunkBytes = hsize_t{1} << 20;  // HDF5's default chunk cache per dataset
+
+Hid string_type(const Hdf5Context& ctx) {
+  Hid t = ctx.own(H5Tcopy(H5T_C_S1), H5Tclose, "create a string type");
+  ctx.check(H5Tset_size(t.get(), H5T_VARIABLE), "create a string type");
+  ctx.check(H5Tset_cset(t.get(), H5T_CSET_UTF8), "create a string type");
+  return t;
+}
+}  // namespace
+
+Hid::Hid(Hid&& o) noexcept : id_(std::exchange(o.id_, H5I_INVALID_HID)), close_(o.close_) {}
+
+Hid& Hid::operator=(Hid&& o) noexcept {
+  if (this != &o) {
+    reset();
+    id_ = std::exchange(o.id_, H5I_INVALID_HID);
+    close_ = o.close_;
+  }
+  return *this;
+}
+
+herr_t Hid::reset() {
+  herr_t status = 0;
+  if (id_ >= 0 && close_) status = close_(id_);
+  id_ = H5I_INVALID_HID;
+  return status;
+}
+
+QuietHdf5Errors::QuietHdf5Errors() {
+  H5Eget_auto2(H5E_DEFAULT, &func_, &data_);
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+}
+
+QuietHdf5Errors::~QuietHdf5Errors() { H5Eset_auto2(H5E_DEFAULT, func_, data_); }
+
+std::string hdf5_error_stack() {
+  // The outermost message says what failed, the innermost why (for files: errno and its text);
+  // the frames between repeat them.
+  std::vector<std::string> messages;
+  auto collect = [](unsigned, const H5E_error2_t* e, void* data) -> herr_t {
+    if (e->desc && *e->desc) static_cast<std::vector<std::string>*>(data)->emplace_back(e->desc);
+    return 0;
+  };
+  H5Ewalk2(H5E_DEFAULT, H5E_WALK_DOWNWARD, collect, &messages);
+  H5Eclear2(H5E_DEFAULT);
+  if (messages.empty()) return "unknown HDF5 error";
+  std::string text = messages.front();
+  if (messages.size() > 1) text += "; " + messages.back();
+  std::replace(text.begin(), text.end(), '\n', ' ');  // HDF5 embeds ctime() output
+  return text;
+}
+
+void Hdf5Context::fail(const std::string& what) const {
+  throw std::runtime_error("ResultWriter: '" + file.string() + "': cannot " + what + ": " + hdf5_error_stack());
+}
+
+Hid create_group(hid_t parent, const std::string& name, const Hdf5Context& ctx) {
+  return ctx.own(H5Gcreate2(parent, name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose,
+                 "create group '" + name + "'");
+}
+
+void write_string_attribute(hid_t obj, const char* name, const std::string& value, const Hdf5Context& ctx) {
+  const std::string what = std::string("write attribute '") + name + "'";
+  const Hid type = string_type(ctx);
+  const Hid space = ctx.own(H5Screate(H5S_SCALAR), H5Sclose, what);
+  const Hid attr =
+      ctx.own(H5Acreate2(obj, name, type.get(), space.get(), H5P_DEFAULT, H5P_DEFAULT), H5Aclose, what);
+  const char* c = value.c_str();
+  ctx.check(H5Awrite(attr.get(), type.get(), &c), what);
+}
+
+void write_numeric_attribute(hid_t obj, const char* name, hid_t file_type, hid_t mem_type, hsize_t n,
+                             const void* data, const Hdf5Context& ctx) {
+  const std::string what = std::string("write attribute '") + name + "'";
+  const Hid space =
+      ctx.own(n == 1 ? H5Screate(H5S_SCALAR) : H5Screate_simple(1, &n, nullptr), H5Sclose, what);
+  const Hid attr = ctx.own(H5Acreate2(obj, name, file_type, space.get(), H5P_DEFAULT, H5P_DEFAULT), H5Aclose, what);
+  ctx.check(H5Awrite(attr.get(), mem_type, data), what);
+}
+
+void write_dataset(hid_t parent, const std::string& name, const std::vector<hsize_t>& dims, hid_t file_type,
+                   hid_t mem_type, const void* data, const Hdf5Context& ctx) {
+  const std::string what = "write dataset '" + name + "'";
+  const Hid space =
+      ctx.own(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr), H5Sclose, what);
+  const Hid ds = ctx.own(
+      H5Dcreate2(parent, name.c_str(), file_type, space.get(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Dclose,
+      what);
+  hsize_t total = 1;
+  for (hsize_t d : dims) total *= d;
+  if (total > 0) ctx.check(H5Dwrite(ds.get(), mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), what);
+}
+
+void write_ints(hid_t parent, const std::string& name, const std::vector<int>& v, const Hdf5Context& ctx,
+                hsize_t columns) {
+  std::vector<hsize_t> dims{v.size() / columns};
+  if (columns > 1) dims.push_back(columns);
+  write_dataset(parent, name, dims, H5T_STD_I32LE, H5T_NATIVE_INT, v.data(), ctx);
+}
+
+void write_strings(hid_t parent, const std::string& name, const std::vector<std::string>& v,
+                   const Hdf5Context& ctx) {
+  std::vector<const char*> c;
+  for (const auto& s : v) c.push_back(s.c_str());
+  const Hid type = string_type(ctx);
+  write_dataset(parent, name, {v.size()}, type.get(), type.get(), c.data(), ctx);
+}
+
+Series::Series(hid_t parent, const std::string& name, std::vector<hsize_t> row, const char* units,
+               const Hdf5Context& ctx)
+    : name_(name), row_(std::move(row)) {
+  const std::string what = "create dataset '" + name + "'";
+  hsize_t size = 1;
+  for (hsize_t d : row_) size *= d;
+  row_size_ = static_cast<int>(size);
+  std::vector<hsize_t> dims{0}, max_dims{H5S_UNLIMITED};
+  std::vector<hsize_t> chunk{std::clamp<hsize_t>(kChunkBytes / (sizeof(double) * size), 1, kMaxChunkSteps)};
+  for (hsize_t d : row_) {
+    dims.push_back(d);
+    max_dims.push_back(d);
+    chunk.push_back(d);
+  }
+  const int rank = static_cast<int>(dims.size());
+  const Hid space = ctx.own(H5Screate_simple(rank, dims.data(), max_dims.data()), H5Sclose, what);
+  const Hid dcpl = ctx.own(H5Pcreate(H5P_DATASET_CREATE), H5Pclose, what);
+  ctx.check(H5Pset_chunk(dcpl.get(), rank, chunk.data()), what);
+  ds_ = ctx.own(
+      H5Dcreate2(parent, name.c_str(), H5T_IEEE_F64LE, space.get(), H5P_DEFAULT, dcpl.get(), H5P_DEFAULT),
+      H5Dclose, what);
+  write_string_attribute(ds_.get(), "units", units, ctx);
+}
+
+void Series::write(hsize_t step, const double* row, const Hdf5Context& ctx) {
+  const std::string what = "write step " + std::to_string(step) + " of '" + name_ + "'";
+  std::vector<hsize_t> dims{step + 1}, start{step}, count{1};
+  for (hsize_t d : row_) {
+    dims.push_back(d);
+    start.push_back(0);
+    count.push_back(d);
+  }
+  const int rank = static_cast<int>(dims.size());
+  ctx.check(H5Dset_extent(ds_.get(), dims.data()), what);
+  const Hid file_space = ctx.own(H5Dget_space(ds_.get()), H5Sclose, what);
+  ctx.check(H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, start.data(), nullptr, count.data(), nullptr),
+            what);
+  const Hid mem_space = ctx.own(H5Screate_simple(rank, count.data(), nullptr), H5Sclose, what);
+  ctx.check(H5Dwrite(ds_.get(), H5T_NATIVE_DOUBLE, mem_space.get(), file_space.get(), H5P_DEFAULT, row), what);
+}
+
+}  // namespace latticedyn::io

@@ -1,0 +1,106 @@
+// Thin RAII layer over the serial HDF5 C API for the results writer: owned identifiers, errors
+// turned into exceptions that carry HDF5's own messages, static datasets and growing time series.
+#pragma once
+
+#include <hdf5.h>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace latticedyn::io {
+
+/// Owns an HDF5 identifier and closes it with the matching H5?close.
+class Hid {
+ public:
+  using Closer = herr_t (*)(hid_t);
+  Hid() = default;
+  Hid(hid_t id, Closer close) : id_(id), close_(close) {}
+  Hid(Hid&& o) noexcept;
+  Hid& operator=(Hid&& o) noexcept;
+  Hid(const Hid&) = delete;
+  Hid& operator=(const Hid&) = delete;
+  ~Hid() { reset(); }
+
+  hid_t get() const { return id_; }
+  /// Closes the identifier (if any); returns the close call's status.
+  herr_t reset();
+
+ private:
+  hid_t id_ = H5I_INVALID_HID;
+  Closer close_ = nullptr;
+};
+
+/// Turns off HDF5's automatic printing of error stacks while alive, so that a failure is reported
+/// once, in the exception, with the stack's messages (which carry the OS reason, e.g. errno text).
+class QuietHdf5Errors {
+ public:
+  QuietHdf5Errors();
+  ~QuietHdf5Errors();
+  QuietHdf5Errors(const QuietHdf5Errors&) = delete;
+  QuietHdf5Errors& operator=(const QuietHdf5Errors&) = delete;
+
+ private:
+  H5E_auto2_t func_ = nullptr;
+  void* data_ = nullptr;
+};
+
+/// The outermost and innermost messages on HDF5's default error stack; clears the stack.
+std::string hdf5_error_stack();
+
+/// Error context of one file: every failure becomes a std::runtime_error naming the file, the
+/// operation and HDF5's reason.
+struct Hdf5Context {
+  std::filesystem::path file;
+
+  [[noreturn]] void fail(const std::string& what) const;
+  Hid own(hid_t id, Hid::Closer close, const std::string& what) const {
+    if (id < 0) fail(what);
+    return Hid(id, close);
+  }
+  void check(herr_t status, const std::string& what) const {
+    if (status < 0) fail(what);
+  }
+};
+
+Hid create_group(hid_t parent, const std::string& name, const Hdf5Context& ctx);
+
+/// Scalar variable-length UTF-8 string attribute.
+void write_string_attribute(hid_t obj, const char* name, const std::string& value, const Hdf5Context& ctx);
+/// Scalar (n == 1) or 1-D numeric attribute stored as `file_type`.
+void write_numeric_attribute(hid_t obj, const char* name, hid_t file_type, hid_t mem_type, hsize_t n,
+                             const void* data, const Hdf5Context& ctx);
+
+/// Static contiguous dataset; zero-size dimensions are allowed (nothing is written then).
+void write_dataset(hid_t parent, const std::string& name, const std::vector<hsize_t>& dims, hid_t file_type,
+                   hid_t mem_type, const void* data, const Hdf5Context& ctx);
+/// int32 dataset of shape (n) or, with columns > 1, (n / columns, columns).
+void write_ints(hid_t parent, const std::string& name, const std::vector<int>& v, const Hdf5Context& ctx,
+                hsize_t columns = 1);
+/// 1-D dataset of variable-length UTF-8 strings.
+void write_strings(hid_t parent, const std::string& name, const std::vector<std::string>& v,
+                   const Hdf5Context& ctx);
+
+/// A float64 dataset of shape (T, row...) growing by one entry along its unlimited time axis per
+/// step. Chunks hold up to 64 steps but about 1 MiB at most, so a chunk fits HDF5's default
+/// per-dataset chunk cache and appending a step never re-reads a chunk from disk.
+class Series {
+ public:
+  /// Every row dimension must be positive (HDF5 rejects zero chunk dimensions). `units` is stored
+  /// as the dataset's "units" attribute.
+  Series(hid_t parent, const std::string& name, std::vector<hsize_t> row, const char* units,
+         const Hdf5Context& ctx);
+
+  int row_size() const { return row_size_; }
+  /// Extends the time axis to step + 1 entries and writes entry `step` from `row` (row-major).
+  void write(hsize_t step, const double* row, const Hdf5Context& ctx);
+  herr_t close() { return ds_.reset(); }
+
+ private:
+  std::string name_;
+  std::vector<hsize_t> row_;
+  int row_size_ = 0;
+  Hid ds_;
+};
+
+}  // namespace latticedyn::io

@@ -1,0 +1,191 @@
+// Typed, located access to YAML input with one-line error messages.
+#include "io/input_node.hpp"
+
+#include <cmath>
+#include <set>
+#include <sstream>
+
+namespace latticedyn {
+
+namespace {
+std::string location(const std::string& file, int line, int column) {
+  std::ostringstream os;
+  os << file << ":" << line << ":" << column;
+  return os.str();
+}
+std::string join(std::initializer_list<const char*> items) {
+  std::string out;
+  for (const char* s : items) out += (out.empty() ? "" : ", ") + std::string(s);
+  return out;
+}
+}  // namespace
+
+InputError::InputError(const std::string& file, int line, int column, const std::string& key, const std::string& message)
+    : std::runtime_error(location(file, line, column) + ": " + (key.empty() ? "" : key + ": ") + message),
+      file_(file),
+      line_(line),
+      column_(column),
+      key_(key) {}
+
+InputNode::InputNode(YAML::Node node, std::string path, std::shared_ptr<const std::string> file)
+    : node_(std::move(node)), path_(std::move(path)), file_(std::move(file)) {}
+
+InputNode InputNode::load_file(const std::string& path) {
+  auto file = std::make_shared<const std::string>(path);
+  try {
+    return InputNode(YAML::LoadFile(path), "", file);
+  } catch (const YAML::BadFile&) {
+    throw InputError(path, 0, 0, "", "cannot open the model file");
+  } catch (const YAML::Exception& e) {
+    throw InputError(path, e.mark.line + 1, e.mark.column + 1, "", "YAML syntax error: " + e.msg);
+  }
+}
+
+InputNode InputNode::load_string(const std::string& text, const std::string& name) {
+  auto file = std::make_shared<const std::string>(name);
+  try {
+    return InputNode(YAML::Load(text), "", file);
+  } catch (const YAML::Exception& e) {
+    throw InputError(name, e.mark.line + 1, e.mark.column + 1, "", "YAML syntax error: " + e.msg);
+  }
+}
+
+void InputNode::fail(const std::string& message) const {
+  const YAML::Mark m = node_.Mark();
+  // A node built without position (e.g. an empty document) reports line 1.
+  throw InputError(*file_, m.line >= 0 ? m.line + 1 : 1, m.column >= 0 ? m.column + 1 : 1, path_, message);
+}
+
+InputNode InputNode::child(const YAML::Node& n, const std::string& key) const {
+  return InputNode(n, path_.empty() ? key : path_ + "." + key, file_);
+}
+
+void InputNode::allow_only(std::initializer_list<const char*> allowed) const {
+  if (!node_.IsMap()) fail("expected a map of keys");
+  std::set<std::string> seen;
+  for (auto it = node_.begin(); it != node_.end(); ++it) {
+    const std::string key = it->first.as<std::string>();
+    InputNode at(it->first, path_.empty() ? key : path_ + "." + key, file_);
+    bool ok = false;
+    for (const char* a : allowed) ok = ok || key == a;
+    if (!ok) at.fail("unknown key '" + key + "' (expected one of: " + join(allowed) + ")");
+    if (!seen.insert(key).second) at.fail("key '" + key + "' appears twice");
+  }
+}
+
+bool InputNode::has(const std::string& key) const { return node_.IsMap() && node_[key].IsDefined() && !node_[key].IsNull(); }
+
+InputNode InputNode::operator[](const std::string& key) const {
+  if (!node_.IsMap()) fail("expected a map with key '" + key + "'");
+  const YAML::Node n = node_[key];
+  if (!n.IsDefined() || n.IsNull()) fail("missing required key '" + key + "'");
+  return child(n, key);
+}
+
+std::optional<InputNode> InputNode::get(const std::string& key) const {
+  if (!has(key)) return std::nullopt;
+  return child(node_[key], key);
+}
+
+std::vector<InputNode> InputNode::items() const {
+  if (!node_.IsSequence()) fail("expected a list");
+  std::vector<InputNode> out;
+  for (std::size_t i = 0; i < node_.size(); ++i)
+    out.push_back(InputNode(node_[i], path_ + "[" + std::to_string(i) + "]", file_));
+  return out;
+}
+
+std::vector<std::pair<std::string, InputNode>> InputNode::entries() const {
+  if (!node_.IsMap()) fail("expected a map");
+  std::vector<std::pair<std::string, InputNode>> out;
+  std::set<std::string> seen;
+  for (auto it = node_.begin(); it != node_.end(); ++it) {
+    const std::string key = it->first.as<std::string>();
+    if (!seen.insert(key).second) InputNode(it->first, path_ + "." + key, file_).fail("key '" + key + "' appears twice");
+    out.emplace_back(key, child(it->second, key));
+  }
+  return out;
+}
+
+std::string InputNode::as_string() const {
+  if (!node_.IsScalar()) fail("expected a text value");
+  return node_.Scalar();
+}
+
+bool InputNode::as_bool() const {
+  bool b = false;
+  if (!node_.IsScalar() || !YAML::convert<bool>::decode(node_, b)) fail("expected true or false, got '" + node_.Scalar() + "'");
+  return b;
+}
+
+int InputNode::as_int() const {
+  int i = 0;
+  if (!node_.IsScalar() || !YAML::convert<int>::decode(node_, i)) fail("expected a whole number, got '" + node_.Scalar() + "'");
+  return i;
+}
+
+double InputNode::as_double() const {
+  double d = 0;
+  if (!node_.IsScalar() || !YAML::convert<double>::decode(node_, d) || !std::isfinite(d))
+    fail("expected a finite number, got '" + (node_.IsScalar() ? node_.Scalar() : std::string("a list or map")) + "'");
+  return d;
+}
+
+double InputNode::as_positive() const {
+  const double d = as_double();
+  if (!(d > 0)) fail("expected a positive number, got " + node_.Scalar());
+  return d;
+}
+
+double InputNode::as_non_negative() const {
+  const double d = as_double();
+  if (d < 0) fail("expected a number >= 0, got " + node_.Scalar());
+  return d;
+}
+
+std::vector<double> InputNode::as_doubles() const {
+  std::vector<double> out;
+  for (const InputNode& n : items()) out.push_back(n.as_double());
+  return out;
+}
+
+Vec3 InputNode::as_vec3() const {
+  if (!node_.IsSequence() || node_.size() != 3) fail("expected a list of 3 numbers [x, y, z]");
+  const auto v = as_doubles();
+  return Vec3(v[0], v[1], v[2]);
+}
+
+Mat3 InputNode::as_mat3() const {
+  const auto rows = items();
+  if (rows.size() != 3) fail("expected 3 rows of 3 numbers");
+  Mat3 m;
+  for (int i = 0; i < 3; ++i) m.row(i) = rows[i].as_vec3().transpose();
+  return m;
+}
+
+std::string InputNode::as_choice(std::initializer_list<const char*> choices) const {
+  const std::string s = as_string();
+  for (const char* c : choices)
+    if (s == c) return s;
+  fail("'" + s + "' is not one of: " + join(choices));
+}
+
+double InputNode::get_double(const std::string& key, double fallback) const {
+  return has(key) ? (*this)[key].as_double() : fallback;
+}
+double InputNode::get_positive(const std::string& key, double fallback) const {
+  return has(key) ? (*this)[key].as_positive() : fallback;
+}
+double InputNode::get_non_negative(const std::string& key, double fallback) const {
+  return has(key) ? (*this)[key].as_non_negative() : fallback;
+}
+int InputNode::get_int(const std::string& key, int fallback) const { return has(key) ? (*this)[key].as_int() : fallback; }
+bool InputNode::get_bool(const std::string& key, bool fallback) const { return has(key) ? (*this)[key].as_bool() : fallback; }
+std::string InputNode::get_string(const std::string& key, const std::string& fallback) const {
+  return has(key) ? (*this)[key].as_string() : fallback;
+}
+Vec3 InputNode::get_vec3(const std::string& key, const Vec3& fallback) const {
+  return has(key) ? (*this)[key].as_vec3() : fallback;
+}
+
+}  // namespace latticedyn

@@ -1,0 +1,86 @@
+// A YAML node that knows where it stands (file, line, column, key path) and reports every input
+// problem as one line "file:line:col: key.path: what was expected", before anything is computed.
+#pragma once
+
+#include "core/types.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <initializer_list>
+#include <memory>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace latticedyn {
+
+/// A bad input: carries its location; what() is the complete one-line message.
+class InputError : public std::runtime_error {
+ public:
+  InputError(const std::string& file, int line, int column, const std::string& key, const std::string& message);
+  const std::string& file() const { return file_; }
+  int line() const { return line_; }
+  const std::string& key() const { return key_; }
+
+ private:
+  std::string file_;
+  int line_, column_;
+  std::string key_;
+};
+
+class InputNode {
+ public:
+  /// Parses a file; a YAML syntax error becomes an InputError with its position.
+  static InputNode load_file(const std::string& path);
+  /// Parses text (for tests), reporting errors against `name`.
+  static InputNode load_string(const std::string& text, const std::string& name);
+
+  const std::string& path() const { return path_; }
+  const std::string& file() const { return *file_; }
+  int line() const { return node_.Mark().line + 1; }
+  bool is_map() const { return node_.IsMap(); }
+  bool is_sequence() const { return node_.IsSequence(); }
+  bool is_scalar() const { return node_.IsScalar(); }
+
+  [[noreturn]] void fail(const std::string& message) const;
+
+  /// The map's keys must be among `allowed` (and appear once); otherwise an error at the key.
+  void allow_only(std::initializer_list<const char*> allowed) const;
+  bool has(const std::string& key) const;
+  InputNode operator[](const std::string& key) const;  ///< required: missing -> error here
+  std::optional<InputNode> get(const std::string& key) const;
+  std::vector<InputNode> items() const;                         ///< sequence elements
+  std::vector<std::pair<std::string, InputNode>> entries() const;  ///< map entries in order
+
+  std::string as_string() const;
+  bool as_bool() const;
+  int as_int() const;
+  double as_double() const;
+  double as_positive() const;      ///< > 0
+  double as_non_negative() const;  ///< >= 0
+  Vec3 as_vec3() const;
+  Mat3 as_mat3() const;            ///< 3x3 list of rows
+  std::vector<double> as_doubles() const;
+  /// One of `choices`; otherwise an error listing them.
+  std::string as_choice(std::initializer_list<const char*> choices) const;
+
+  // Convenience: optional keys with defaults.
+  double get_double(const std::string& key, double fallback) const;
+  double get_positive(const std::string& key, double fallback) const;
+  double get_non_negative(const std::string& key, double fallback) const;
+  int get_int(const std::string& key, int fallback) const;
+  bool get_bool(const std::string& key, bool fallback) const;
+  std::string get_string(const std::string& key, const std::string& fallback) const;
+  Vec3 get_vec3(const std::string& key, const Vec3& fallback) const;
+
+ private:
+  InputNode(YAML::Node node, std::string path, std::shared_ptr<const std::string> file);
+  InputNode child(const YAML::Node& n, const std::string& key) const;
+
+  YAML::Node node_;
+  std::string path_;
+  std::shared_ptr<const std::string> file_;
+};
+
+}  // namespace latticedyn

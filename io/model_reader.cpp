@@ -1,0 +1,202 @@
+// The model format's top level: gravity, materials, sections, drives, ground, bodies,
+// constraints, loads, solver and output settings, in this order of dependence.
+#include "io/model_reader.hpp"
+
+#include "io/body_readers.hpp"
+#include "io/drive_reader.hpp"
+#include "io/reader_context.hpp"
+
+#include <filesystem>
+#include <map>
+
+namespace latticedyn {
+
+namespace {
+
+Vec3 read_gravity(const InputNode& n) {
+  if (n.is_sequence()) return n.as_vec3();
+  n.allow_only({"direction", "magnitude"});
+  const InputNode dir = n["direction"];
+  const Vec3 d = dir.as_vec3();
+  if (d.norm() == 0.0) dir.fail("the gravity direction has zero length");
+  return d.normalized() * n["magnitude"].as_non_negative();
+}
+
+void read_constraints(ReaderContext& ctx, const InputNode& list, std::map<std::string, InputNode>& where) {
+  int index = 1;
+  for (const InputNode& n : list.items()) {
+    n.allow_only({"name", "type", "axis", "joints", "drive", "shared"});
+    Constraint c;
+    c.name = n.get_string("name", "constraint" + std::to_string(index++));
+    if (where.count(c.name)) n["name"].fail("a constraint named '" + c.name + "' exists already");
+    const std::string type = n["type"].as_choice({"fixed", "revolute", "prismatic", "spherical"});
+    c.type = type == "fixed"      ? ConstraintType::fixed
+             : type == "revolute" ? ConstraintType::revolute
+             : type == "prismatic" ? ConstraintType::prismatic
+                                   : ConstraintType::spherical;
+    const bool has_axis = c.type == ConstraintType::revolute || c.type == ConstraintType::prismatic;
+    if (has_axis) {
+      const std::string axis = n["axis"].as_choice({"x", "y", "z"});
+      c.axis = axis[0] - 'x';
+    } else if (n.has("axis")) {
+      n["axis"].fail("only revolute and prismatic constraints have an axis");
+    }
+    const InputNode joints = n["joints"];
+    const auto j = joints.items();
+    if (j.size() != 2) joints.fail("expected two joints [\"body.joint\", \"body.joint\"]");
+    c.joint1 = ctx.joint(j[0]);
+    c.joint2 = ctx.joint(j[1]);
+    if (auto d = n.get("drive")) {
+      if (!has_axis) d->fail("only revolute and prismatic constraints can be driven");
+      c.drive = ctx.drive(*d);
+    }
+    where.emplace(c.name, n);
+    try {
+      ctx.builder.add_constraint(c, n.get_bool("shared", false));
+    } catch (const ModelError& e) {
+      n.fail(e.what());
+    }
+  }
+}
+
+void read_loads(ReaderContext& ctx, const InputNode& list) {
+  int index = 1;
+  for (const InputNode& n : list.items()) {
+    n.allow_only({"name", "joint", "force", "force_frame", "moment", "moment_frame", "drive"});
+    NodalLoad l;
+    l.name = n.get_string("name", "load" + std::to_string(index++));
+    l.joint = ctx.joint(n["joint"]);
+    if (!n.has("force") && !n.has("moment")) n.fail("a load needs a 'force' or a 'moment'");
+    l.force = n.get_vec3("force", Vec3::Zero());
+    l.moment = n.get_vec3("moment", Vec3::Zero());
+    auto frame = [&](const char* key) {
+      return n.has(key) && n[key].as_choice({"inertial", "body"}) == "body" ? LoadFrame::body : LoadFrame::inertial;
+    };
+    l.force_frame = frame("force_frame");
+    l.moment_frame = frame("moment_frame");
+    if (auto d = n.get("drive")) l.drive = ctx.drive(*d);
+    try {
+      ctx.builder.add_load(l);
+    } catch (const ModelError& e) {
+      n.fail(e.what());
+    }
+  }
+}
+
+void read_solver(const InputNode& n, Simulation& sim) {
+  n.allow_only({"static", "dynamics", "petsc_options"});
+  sim.petsc_options = n.get_string("petsc_options", "");
+  if (auto s = n.get("static")) {
+    s->allow_only({"enabled", "load_steps", "max_iterations", "max_cuts", "rtol", "atol", "time"});
+    sim.run_static = s->get_bool("enabled", true);
+    StaticSettings& st = sim.statics;
+    if (auto k = s->get("load_steps")) {
+      st.load_steps = k->as_int();
+      if (st.load_steps < 1) k->fail("expected at least 1 load step");
+    }
+    if (auto k = s->get("max_iterations")) {
+      st.max_iterations = k->as_int();
+      if (st.max_iterations < 1) k->fail("expected at least 1 iteration");
+    }
+    if (auto k = s->get("max_cuts")) {
+      st.max_cuts = k->as_int();
+      if (st.max_cuts < 0) k->fail("expected a number of halvings >= 0");
+    }
+    st.rtol = s->get_positive("rtol", st.rtol);
+    st.atol = s->get_positive("atol", st.atol);
+    st.time = s->get_double("time", st.time);
+  }
+  if (auto d = n.get("dynamics")) {
+    d->allow_only({"integrator", "t_start", "t_end", "time_step", "rho_infinity", "adaptive", "rtol", "atol", "max_steps",
+                   "baumgarte_alpha", "baumgarte_beta", "rk_type"});
+    sim.run_dynamics = true;
+    DynamicSettings& dy = sim.dynamics;
+    if (auto k = d->get("integrator"))
+      dy.integrator = k->as_choice({"generalized_alpha", "baumgarte"}) == "baumgarte" ? IntegratorKind::baumgarte
+                                                                                      : IntegratorKind::generalized_alpha;
+    dy.t_start = d->get_double("t_start", 0.0);
+    const InputNode t_end = (*d)["t_end"];
+    dy.t_end = t_end.as_double();
+    if (!(dy.t_end > dy.t_start)) t_end.fail("t_end must be later than t_start");
+    dy.time_step = (*d)["time_step"].as_positive();
+    if (auto k = d->get("rho_infinity")) {
+      dy.rho_infinity = k->as_double();
+      if (dy.rho_infinity < 0 || dy.rho_infinity > 1) k->fail("rho_infinity must lie in [0, 1]");
+    }
+    dy.adaptive = d->get_bool("adaptive", false);
+    dy.rtol = d->get_positive("rtol", dy.rtol);
+    dy.atol = d->get_positive("atol", dy.atol);
+    if (auto k = d->get("max_steps")) {
+      dy.max_steps = k->as_int();
+      if (dy.max_steps < 1) k->fail("expected at least 1 step");
+    }
+    dy.baumgarte_alpha = d->get_non_negative("baumgarte_alpha", dy.baumgarte_alpha);
+    dy.baumgarte_beta = d->get_non_negative("baumgarte_beta", dy.baumgarte_beta);
+    dy.rk_type = d->get_string("rk_type", dy.rk_type);
+  }
+}
+
+void read_output(const ReaderContext& ctx, const InputNode& n, Simulation& sim) {
+  n.allow_only({"directory", "name", "interval", "probes"});
+  sim.output.directory = n.get_string("directory", sim.output.directory);
+  sim.output.name = n.get_string("name", sim.output.name);
+  if (sim.output.name.empty() || sim.output.name.find('/') != std::string::npos)
+    n["name"].fail("expected a file base name without '/'");
+  sim.output.interval = n.get_non_negative("interval", 0.0);
+  if (auto p = n.get("probes"))
+    for (const InputNode& j : p->items()) sim.output.probe_joints.push_back(ctx.joint(j));
+}
+
+Simulation read(const InputNode& root, const std::string& source) {
+  if (!root.is_map()) root.fail("a model file is a map of keys (title, gravity, bodies, ...)");
+  root.allow_only({"title", "gravity", "materials", "sections", "drives", "ground", "bodies", "constraints", "loads",
+                   "solver", "output"});
+  Simulation sim;
+  sim.source = source;
+  const std::string stem = std::filesystem::path(source).stem().string();
+  sim.output.directory = "results/" + stem;
+  sim.output.name = stem.empty() ? "results" : stem;
+
+  ReaderContext ctx;
+  ctx.builder.set_title(root.get_string("title", stem));
+  ctx.bodies["ground"] = BodyRecord{0, "ground", {}};
+  if (auto g = root.get("gravity")) ctx.builder.set_gravity(read_gravity(*g));
+  if (auto m = root.get("materials"))
+    for (const auto& [name, node] : m->entries()) ctx.materials[name] = read_material(node);
+  if (auto s = root.get("sections"))
+    for (const auto& [name, node] : s->entries()) ctx.sections[name] = read_section(node);
+  if (auto d = root.get("drives"))
+    for (const auto& [name, node] : d->entries()) ctx.drives[name] = ctx.builder.add_drive(name, read_drive(node));
+  if (auto g = root.get("ground")) read_ground(ctx, *g);
+  const InputNode bodies = root["bodies"];
+  if (bodies.items().empty()) bodies.fail("a model needs at least one body");
+  for (const InputNode& b : bodies.items()) read_body(ctx, b);
+
+  std::map<std::string, InputNode> constraint_nodes;
+  if (auto c = root.get("constraints")) read_constraints(ctx, *c, constraint_nodes);
+  if (auto l = root.get("loads")) read_loads(ctx, *l);
+  if (auto s = root.get("solver")) read_solver(*s, sim);
+  if (auto o = root.get("output")) read_output(ctx, *o, sim);
+
+  try {
+    sim.model = ctx.builder.build();
+  } catch (const ModelError& e) {
+    // Name the constraint the message is about, at its place in the file.
+    const std::string what = e.what();
+    for (const auto& [name, node] : constraint_nodes)
+      if (what.find("'" + name + "'") != std::string::npos) node.fail(what);
+    root.fail(what);
+  }
+  if (sim.model.num_free_dofs() == 0) bodies.fail("every body is fixed: the model has no degree of freedom");
+  return sim;
+}
+
+}  // namespace
+
+Simulation read_simulation(const std::string& path) { return read(InputNode::load_file(path), path); }
+
+Simulation read_simulation_from_string(const std::string& yaml, const std::string& name) {
+  return read(InputNode::load_string(yaml, name), name);
+}
+
+}  // namespace latticedyn

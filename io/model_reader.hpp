@@ -1,0 +1,37 @@
+// Reads a latticedyn model file (YAML, format in docs/model-format.md) into a Model and the run
+// settings; every input problem is an InputError with file:line:col and key, before any solve.
+#pragma once
+
+#include "assembly/model.hpp"
+#include "timestepping/dynamic_settings.hpp"
+#include "timestepping/static_solver.hpp"
+
+#include <string>
+#include <vector>
+
+namespace latticedyn {
+
+struct OutputSettings {
+  std::string directory;          ///< results folder (created by the run)
+  std::string name;               ///< base name of the files in it
+  double interval = 0.0;          ///< simulated seconds between outputs, 0 = every step
+  std::vector<int> probe_joints;  ///< joints written to the probe CSV
+};
+
+struct Simulation {
+  std::string source;  ///< the model file
+  Model model;
+  bool run_static = false;    ///< find the static equilibrium before dynamics
+  StaticSettings statics;
+  bool run_dynamics = false;  ///< a dynamics section is present
+  DynamicSettings dynamics;
+  OutputSettings output;
+  std::string petsc_options;  ///< inserted into the options database before the command line
+};
+
+/// Throws InputError for any bad input (syntax, unknown key, missing field, meaningless value,
+/// dangling reference, inconsistent shared connection).
+Simulation read_simulation(const std::string& path);
+Simulation read_simulation_from_string(const std::string& yaml, const std::string& name);
+
+}  // namespace latticedyn

@@ -1,0 +1,103 @@
+// Named references, materials, sections and orientations of the model format.
+#include "io/reader_context.hpp"
+
+#include "core/rotation.hpp"
+
+namespace latticedyn {
+
+Material read_material(const InputNode& n) {
+  n.allow_only({"density", "youngs_modulus", "poisson_ratio"});
+  Material m;
+  m.density = n["density"].as_positive();
+  m.youngs_modulus = n["youngs_modulus"].as_positive();
+  const InputNode nu = n["poisson_ratio"];
+  m.poisson_ratio = nu.as_double();
+  if (!(m.poisson_ratio > -1.0 && m.poisson_ratio < 0.5)) nu.fail("expected a Poisson ratio in (-1, 0.5)");
+  return m;
+}
+
+SectionProperties read_section(const InputNode& n) {
+  const std::string type = n["type"].as_choice({"round_tube", "frame", "custom"});
+  if (type == "round_tube") {
+    n.allow_only({"type", "outer_radius", "inner_radius"});
+    const double ro = n["outer_radius"].as_positive();
+    const double ri = n.get_non_negative("inner_radius", 0.0);
+    if (ri >= ro) n["inner_radius"].fail("inner radius must be smaller than the outer radius");
+    return round_tube_section(ro, ri);
+  }
+  if (type == "frame") {
+    n.allow_only({"type", "height", "width", "thickness"});
+    return frame_section(n["height"].as_positive(), n["width"].as_positive(), n["thickness"].as_positive());
+  }
+  n.allow_only({"type", "area", "Iy", "Iz", "torsion_constant", "shear_coefficient"});
+  return custom_section(n["area"].as_positive(), n["Iy"].as_positive(), n["Iz"].as_positive(),
+                        n["torsion_constant"].as_positive(), n.get_positive("shear_coefficient", 5.0 / 6.0));
+}
+
+Material ReaderContext::material(const InputNode& n) const {
+  if (n.is_map()) return read_material(n);
+  const std::string name = n.as_string();
+  const auto it = materials.find(name);
+  if (it == materials.end()) n.fail("no material named '" + name + "' (define it under 'materials')");
+  return it->second;
+}
+
+SectionProperties ReaderContext::section(const InputNode& n) const {
+  if (n.is_map()) return read_section(n);
+  const std::string name = n.as_string();
+  const auto it = sections.find(name);
+  if (it == sections.end()) n.fail("no section named '" + name + "' (define it under 'sections')");
+  return it->second;
+}
+
+int ReaderContext::joint(const InputNode& n) const {
+  const std::string ref = n.as_string();
+  const auto dot = ref.find('.');
+  if (dot == std::string::npos) n.fail("expected a joint reference 'body.joint', got '" + ref + "'");
+  const std::string body = ref.substr(0, dot), joint = ref.substr(dot + 1);
+  const auto b = bodies.find(body);
+  if (b == bodies.end()) n.fail("no body named '" + body + "'");
+  const auto j = b->second.joints.find(joint);
+  if (j == b->second.joints.end()) {
+    std::string names;
+    for (const auto& [k, v] : b->second.joints) names += (names.empty() ? "" : ", ") + k;
+    n.fail("body '" + body + "' has no joint '" + joint + "' (its joints: " + (names.empty() ? "none" : names) + ")");
+  }
+  return j->second;
+}
+
+int ReaderContext::drive(const InputNode& n) const {
+  const std::string name = n.as_string();
+  const auto it = drives.find(name);
+  if (it == drives.end()) n.fail("no drive named '" + name + "' (define it under 'drives')");
+  return it->second;
+}
+
+Mat3 ReaderContext::orientation(const InputNode& p) {
+  int given = 0;
+  for (const char* k : {"rotation", "rotation_deg", "axis_angle", "cardan_zyx_deg"}) given += p.has(k) ? 1 : 0;
+  if (given > 1) p.fail("give the orientation once: rotation, rotation_deg, axis_angle or cardan_zyx_deg");
+  if (auto r = p.get("rotation")) return rotation_matrix(r->as_vec3());
+  if (auto r = p.get("rotation_deg")) return rotation_matrix<double>(r->as_vec3() * (std::numbers::pi / 180));
+  if (auto r = p.get("cardan_zyx_deg")) return cardan_zyx_matrix<double>(r->as_vec3() * (std::numbers::pi / 180));
+  if (auto r = p.get("axis_angle")) {
+    r->allow_only({"axis", "angle_deg"});
+    const InputNode axis = (*r)["axis"];
+    const Vec3 a = axis.as_vec3();
+    if (a.norm() == 0.0) axis.fail("the rotation axis has zero length");
+    return rotation_matrix<double>(a.normalized() * deg_to_rad((*r)["angle_deg"].as_double()));
+  }
+  return Mat3::Identity();
+}
+
+int ReaderContext::add_joint(const InputNode& at, const std::string& body, const std::string& name, Joint joint) {
+  if (name.empty() || name.find('.') != std::string::npos) at.fail("joint names must be non-empty and contain no '.'");
+  BodyRecord& rec = bodies.at(body);
+  if (rec.joints.count(name)) at.fail("body '" + body + "' has two joints named '" + name + "'");
+  joint.name = body + "." + name;
+  const int id = builder.add_joint(rec.body, joint);
+  rec.joints[name] = id;
+  return id;
+}
+
+}  // namespace latticedyn

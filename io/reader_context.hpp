@@ -1,0 +1,45 @@
+// State shared while reading a model file: the model under construction and the named things
+// (materials, sections, drives, bodies and their joints) that later entries refer to.
+#pragma once
+
+#include "assembly/model_builder.hpp"
+#include "elements/section.hpp"
+#include "io/input_node.hpp"
+
+#include <map>
+#include <string>
+
+namespace latticedyn {
+
+struct BodyRecord {
+  int body = -1;
+  std::string type;
+  std::map<std::string, int> joints;  ///< joint name within the body -> model joint index
+};
+
+class ReaderContext {
+ public:
+  ModelBuilder builder;
+  std::map<std::string, Material> materials;
+  std::map<std::string, SectionProperties> sections;
+  std::map<std::string, int> drives;
+  std::map<std::string, BodyRecord> bodies;
+
+  /// A material given by name (from `materials`) or inline as a map.
+  Material material(const InputNode& n) const;
+  /// A section given by name (from `sections`) or inline as a map.
+  SectionProperties section(const InputNode& n) const;
+  /// "body.joint" -> model joint index.
+  int joint(const InputNode& n) const;
+  int drive(const InputNode& n) const;
+  /// Orientation from at most one of: rotation (rotation vector, rad), rotation_deg,
+  /// axis_angle {axis, angle_deg}, cardan_zyx_deg [x, y, z]; identity if none is given.
+  static Mat3 orientation(const InputNode& parent);
+  /// Registers a joint of a body under `name` and in the builder as "body.name".
+  int add_joint(const InputNode& at, const std::string& body, const std::string& name, Joint joint);
+};
+
+Material read_material(const InputNode& n);
+SectionProperties read_section(const InputNode& n);
+
+}  // namespace latticedyn

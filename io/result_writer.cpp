@@ -1,0 +1,444 @@
+// ResultWriter: what goes into the results .h5 and in which order the three files are written, so
+// that a run stopping at any point leaves files holding every completed append (HDF5 first).
+#include "io/result_writer.hpp"
+
+#include "core/rotation.hpp"
+#include "io/hdf5_file.hpp"
+#include "io/viz_geometry.hpp"
+#include "io/xdmf.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <functional>
+#include <iostream>
+#include <limits>
+#include <optional>
+#include <stdexcept>
+#include <system_error>
+#include <utility>
+
+namespace latticedyn {
+
+namespace fs = std::filesystem;
+using io::Hid;
+
+namespace {
+
+constexpr int kFormatVersion = 1;
+
+[[noreturn]] void os_fail(const std::string& what, const fs::path& path, int err) {
+  throw std::runtime_error("ResultWriter: cannot " + what + " '" + path.string() + "': " + std::strerror(err));
+}
+
+std::string csv_field(const std::string& s) {
+  if (s.find_first_of(",\"\r\n") == std::string::npos) return s;
+  std::string out = "\"";
+  for (char c : s) {
+    if (c == '"') out += '"';
+    out += c;
+  }
+  return out + "\"";
+}
+
+void copy3(const Vec3& v, double* out) { std::copy(v.data(), v.data() + 3, out); }
+
+}  // namespace
+
+struct ResultWriter::Impl {
+  /// One time series and how to fill its row for the current step.
+  struct Output {
+    io::Series series;
+    std::function<void(const ModelState&, double*)> fill;
+  };
+
+  const Model& model;
+  ResultWriterOptions opts;
+  fs::path h5, xdmf, csv;
+  io::Hdf5Context ctx;
+  Hid file;
+  std::vector<int> translation, rotation, scalar;  // model block indices by kind
+  std::vector<Output> outputs;                     // declared after `file`: closed before it
+  int steps = 0;                                   // completed appends
+  std::optional<io::XdmfDocument> document;        // none while nothing is drawn
+  std::chrono::steady_clock::time_point xdmf_written{};
+  bool xdmf_stale = false;
+  std::FILE* probes = nullptr;
+  bool closed = false;
+  bool broken = false;  // an append failed while writing the .h5
+
+  // Evaluated once per append, read by several outputs.
+  std::optional<io::VizGeometry> viz;
+  std::vector<double> axial;    // per element, NaN without an axial force
+  ElementEnergy energy;
+  std::vector<double> points;   // viz points, 3 per point
+  std::vector<double> points0;  // at the first append
+
+  Impl(const Model& m, ResultWriterOptions o);
+  ~Impl();
+  void write_model();
+  void create_series();
+  void create_viz();
+  void compute_step(const ModelState& state);
+  void write_probe_header();
+  void write_probe_row(const ModelState& state);
+  void add(hid_t group, const std::string& name, std::vector<hsize_t> row, const char* units,
+           std::function<void(const ModelState&, double*)> fill);
+};
+
+ResultWriter::Impl::Impl(const Model& m, ResultWriterOptions o) : model(m), opts(std::move(o)) {
+  if (opts.base_name.empty() || opts.base_name.find_first_of("/:") != std::string::npos)
+    throw std::invalid_argument("ResultWriter: base name '" + opts.base_name +
+                                "' must be non-empty and contain no '/' or ':'");
+  for (int j : opts.probe_joints)
+    if (j < 0 || j >= static_cast<int>(model.joints.size()))
+      throw std::invalid_argument("ResultWriter: probe joint " + std::to_string(j) +
+                                  " does not exist (the model has " + std::to_string(model.joints.size()) +
+                                  " joints)");
+  io::VizGeometry::check_draw_sequences(model);
+
+  const fs::path dir = opts.directory.empty() ? fs::path(".") : fs::path(opts.directory);
+  h5 = dir / (opts.base_name + ".h5");
+  xdmf = dir / (opts.base_name + ".xdmf");
+  csv = dir / (opts.base_name + "_probes.csv");
+  ctx.file = h5;
+
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) throw std::runtime_error("ResultWriter: cannot create directory '" + dir.string() + "': " + ec.message());
+
+  for (int b = 0; b < static_cast<int>(model.blocks.size()); ++b) {
+    switch (model.blocks[b].kind) {
+      case SlotKind::translation: translation.push_back(b); break;
+      case SlotKind::rotation: rotation.push_back(b); break;
+      case SlotKind::scalar: scalar.push_back(b); break;
+    }
+  }
+
+  // A stale XDMF of an earlier run in this folder would point into the .h5 about to be truncated.
+  fs::remove(xdmf, ec);
+  if (ec) throw std::runtime_error("ResultWriter: cannot remove '" + xdmf.string() + "': " + ec.message());
+
+  const io::QuietHdf5Errors quiet;
+  // Serial HDF5 with default property lists: only the rank holding the gathered state writes.
+  file = ctx.own(H5Fcreate(h5.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose, "create the file");
+  write_model();
+  create_series();
+  ctx.check(H5Fflush(file.get(), H5F_SCOPE_GLOBAL), "flush the file");
+  write_probe_header();
+}
+
+ResultWriter::Impl::~Impl() {
+  if (probes) std::fclose(probes);
+}
+
+void ResultWriter::Impl::write_model() {
+  const hid_t root = file.get();
+  io::write_string_attribute(root, "title", model.title, ctx);
+  io::write_string_attribute(root, "generator", "latticedyn", ctx);
+  io::write_numeric_attribute(root, "format_version", H5T_STD_I32LE, H5T_NATIVE_INT, 1, &kFormatVersion, ctx);
+
+  const Hid g = io::create_group(root, "model", ctx);
+  const hid_t m = g.get();
+  io::write_numeric_attribute(m, "gravity", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 3, model.gravity.data(), ctx);
+  io::write_ints(m, "translation_blocks", translation, ctx);
+  io::write_ints(m, "rotation_blocks", rotation, ctx);
+  io::write_ints(m, "scalar_blocks", scalar, ctx);
+
+  std::vector<std::string> labels;
+  std::vector<int> kind, fixed;
+  for (const DofBlock& b : model.blocks) {
+    labels.push_back(b.label);
+    kind.push_back(static_cast<int>(b.kind));
+    fixed.push_back(b.fixed ? 1 : 0);
+  }
+  io::write_strings(m, "block_labels", labels, ctx);
+  io::write_ints(m, "block_kind", kind, ctx);
+  io::write_ints(m, "block_fixed", fixed, ctx);
+
+  std::vector<std::string> names, types;
+  for (const Body& b : model.bodies) {
+    names.push_back(b.name);
+    types.push_back(b.type);
+  }
+  io::write_strings(m, "body_names", names, ctx);
+  io::write_strings(m, "body_types", types, ctx);
+
+  names.clear();
+  std::vector<int> body;
+  for (const Joint& j : model.joints) {
+    names.push_back(j.name);
+    body.push_back(j.body);
+  }
+  io::write_strings(m, "joint_names", names, ctx);
+  io::write_ints(m, "joint_body", body, ctx);
+
+  names.clear();
+  types.clear();
+  std::vector<int> rows, first_row, joints;
+  int row = 0;
+  for (const Constraint& c : model.constraints) {
+    names.push_back(c.name);
+    types.push_back(to_string(c.type));
+    rows.push_back(c.rows());
+    first_row.push_back(row);
+    row += c.rows();
+    joints.push_back(c.joint1);
+    joints.push_back(c.joint2);
+  }
+  io::write_strings(m, "constraint_names", names, ctx);
+  io::write_strings(m, "constraint_types", types, ctx);
+  io::write_ints(m, "constraint_rows", rows, ctx);
+  io::write_ints(m, "constraint_first_row", first_row, ctx);
+  io::write_ints(m, "constraint_joints", joints, ctx, 2);
+
+  types.clear();
+  body.clear();
+  for (const ElementEntry& e : model.elements) {
+    types.emplace_back(e.element->type_name());
+    body.push_back(e.body);
+  }
+  io::write_strings(m, "element_types", types, ctx);
+  io::write_ints(m, "element_body", body, ctx);
+
+  names.clear();
+  std::vector<int> load_joint;
+  for (const NodalLoad& l : model.loads) {
+    names.push_back(l.name);
+    load_joint.push_back(l.joint);
+  }
+  io::write_strings(m, "load_names", names, ctx);
+  io::write_ints(m, "load_joint", load_joint, ctx);
+  io::write_ints(m, "probe_joints", opts.probe_joints, ctx);
+}
+
+void ResultWriter::Impl::add(hid_t group, const std::string& name, std::vector<hsize_t> row, const char* units,
+                             std::function<void(const ModelState&, double*)> fill) {
+  for (hsize_t d : row)
+    if (d == 0) return;  // nothing to record, and HDF5 rejects zero chunk dimensions
+  outputs.push_back({io::Series(group, name, std::move(row), units, ctx), std::move(fill)});
+}
+
+void ResultWriter::Impl::create_series() {
+  const hid_t root = file.get();
+  const hsize_t nt = translation.size(), nr = rotation.size(), ns = scalar.size();
+  const hsize_t nj = model.joints.size(), ne = model.elements.size(), nc = model.constraints.size();
+  const auto nm = static_cast<hsize_t>(model.num_multipliers());
+
+  add(root, "time", {}, "s", [](const ModelState& s, double* out) { out[0] = s.time(); });
+
+  const Hid blocks = io::create_group(root, "blocks", ctx);
+  const hid_t b = blocks.get();
+  add(b, "position", {nt, 3}, "m", [this](const ModelState& s, double* out) {
+    for (int i : translation) copy3(s.block(i).pos, std::exchange(out, out + 3));
+  });
+  add(b, "velocity", {nt, 3}, "m/s", [this](const ModelState& s, double* out) {
+    for (int i : translation) copy3(s.block(i).vel, std::exchange(out, out + 3));
+  });
+  add(b, "rotation_vector", {nr, 3}, "rad", [this](const ModelState& s, double* out) {
+    for (int i : rotation) copy3(rotation_vector(s.block(i).rot), std::exchange(out, out + 3));
+  });
+  add(b, "rotation_matrix", {nr, 3, 3}, "1", [this](const ModelState& s, double* out) {
+    for (int i : rotation)
+      for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) *out++ = s.block(i).rot(r, c);
+  });
+  add(b, "angular_velocity", {nr, 3}, "rad/s", [this](const ModelState& s, double* out) {
+    for (int i : rotation) copy3(s.block(i).vel, std::exchange(out, out + 3));
+  });
+  add(b, "scalar_position", {ns}, "model units", [this](const ModelState& s, double* out) {
+    for (int i : scalar) *out++ = s.block(i).pos(0);
+  });
+  add(b, "scalar_velocity", {ns}, "model units/s", [this](const ModelState& s, double* out) {
+    for (int i : scalar) *out++ = s.block(i).vel(0);
+  });
+
+  const Hid joints = io::create_group(root, "joints", ctx);
+  add(joints.get(), "position", {nj, 3}, "m", [nj](const ModelState& s, double* out) {
+    for (hsize_t j = 0; j < nj; ++j) copy3(s.joint_position(static_cast<int>(j)), out + 3 * j);
+  });
+  add(joints.get(), "velocity", {nj, 3}, "m/s", [nj](const ModelState& s, double* out) {
+    for (hsize_t j = 0; j < nj; ++j) copy3(s.joint_velocity(static_cast<int>(j)), out + 3 * j);
+  });
+
+  const Hid constraints = io::create_group(root, "constraints", ctx);
+  add(constraints.get(), "multipliers", {nm}, "N (length rows), N*m (angle rows)",
+      [nc](const ModelState& s, double* out) {
+        for (hsize_t c = 0; c < nc; ++c) {
+          const Eigen::VectorXd l = s.multipliers(static_cast<int>(c));
+          out = std::copy(l.data(), l.data() + l.size(), out);
+        }
+      });
+  add(constraints.get(), "violation", {nc}, "m (length rows), 1 (angle rows)", [nc](const ModelState& s, double* out) {
+    for (hsize_t c = 0; c < nc; ++c) out[c] = s.constraint_values(static_cast<int>(c)).cwiseAbs().maxCoeff();
+  });
+
+  const Hid elements = io::create_group(root, "elements", ctx);
+  add(elements.get(), "axial_force", {ne}, "N",
+      [this](const ModelState&, double* out) { std::copy(axial.begin(), axial.end(), out); });
+
+  add(root, "energy", {3}, "J", [this](const ModelState&, double* out) {
+    out[0] = energy.kinetic;
+    out[1] = energy.gravity_potential;
+    out[2] = energy.strain;
+  });
+  add(root, "energy_total", {}, "J", [this](const ModelState&, double* out) {
+    out[0] = energy.kinetic + energy.gravity_potential + energy.strain;
+  });
+}
+
+void ResultWriter::Impl::create_viz() {
+  const auto np = static_cast<hsize_t>(viz->num_points()), nl = static_cast<hsize_t>(viz->num_lines());
+  if (nl == 0) return;  // nothing to draw: no /viz and no XDMF
+  const Hid g = io::create_group(file.get(), "viz", ctx);
+  io::write_ints(g.get(), "lines", viz->lines(), ctx, 2);
+  io::write_ints(g.get(), "body", viz->line_body(), ctx);
+  io::write_ints(g.get(), "element", viz->line_element(), ctx);
+  add(g.get(), "points", {np, 3}, "m",
+      [this](const ModelState&, double* out) { std::copy(points.begin(), points.end(), out); });
+  add(g.get(), "displacement", {np, 3}, "m", [this](const ModelState&, double* out) {
+    for (std::size_t i = 0; i < points.size(); ++i) out[i] = points[i] - points0[i];
+  });
+  add(g.get(), "axial_force", {nl}, "N", [this](const ModelState&, double* out) {
+    const auto& element = viz->line_element();
+    for (std::size_t l = 0; l < element.size(); ++l) out[l] = element[l] >= 0 ? axial[element[l]] : 0.0;
+  });
+  document.emplace(io::XdmfLayout{h5.filename().string(), model.title.empty() ? opts.base_name : model.title,
+                                  viz->num_points(), viz->num_lines()});
+}
+
+void ResultWriter::Impl::compute_step(const ModelState& state) {
+  axial.resize(model.elements.size());
+  for (std::size_t e = 0; e < model.elements.size(); ++e)
+    axial[e] = state.axial_force(static_cast<int>(e)).value_or(std::numeric_limits<double>::quiet_NaN());
+  energy = state.energy();
+  viz->points(state, points);
+  if (steps == 0) points0 = points;
+}
+
+void ResultWriter::Impl::write_probe_header() {
+  probes = std::fopen(csv.c_str(), "w");
+  if (!probes) os_fail("create", csv, errno);
+  std::string header = "time";
+  for (int j : opts.probe_joints)
+    for (const char* c : {".x", ".y", ".z", ".vx", ".vy", ".vz"}) {
+      header += ',';
+      header += csv_field(model.joints[j].name + c);
+    }
+  header += "\n";
+  if (std::fputs(header.c_str(), probes) < 0 || std::fflush(probes) != 0) os_fail("write", csv, errno);
+}
+
+void ResultWriter::Impl::write_probe_row(const ModelState& state) {
+  std::string row = io::format_double(state.time());
+  for (int j : opts.probe_joints) {
+    const Vec3 p = state.joint_position(j), v = state.joint_velocity(j);
+    for (double x : {p.x(), p.y(), p.z(), v.x(), v.y(), v.z()}) {
+      row += ',';
+      row += io::format_double(x);
+    }
+  }
+  row += "\n";
+  if (std::fputs(row.c_str(), probes) < 0 || std::fflush(probes) != 0) os_fail("write", csv, errno);
+}
+
+ResultWriter::ResultWriter(const Model& model, ResultWriterOptions opts)
+    : impl_(std::make_unique<Impl>(model, std::move(opts))) {}
+
+ResultWriter::~ResultWriter() {
+  try {
+    close();
+  } catch (const std::exception& e) {
+    std::cerr << e.what() << '\n';
+  }
+}
+
+ResultWriter::ResultWriter(ResultWriter&&) noexcept = default;
+
+ResultWriter& ResultWriter::operator=(ResultWriter&& other) noexcept {
+  if (this != &other) {
+    try {
+      close();
+    } catch (const std::exception& e) {
+      std::cerr << e.what() << '\n';
+    }
+    impl_ = std::move(other.impl_);
+  }
+  return *this;
+}
+
+void ResultWriter::append(const ModelState& state) {
+  if (!impl_ || impl_->closed) throw std::logic_error("ResultWriter::append after close()");
+  Impl& w = *impl_;
+  if (w.broken)
+    throw std::logic_error("ResultWriter::append: an earlier append failed writing '" + w.h5.string() +
+                           "'; the file holds the steps before it");
+  const Model& m = state.model();
+  if (m.blocks.size() != w.model.blocks.size() || m.joints.size() != w.model.joints.size() ||
+      m.elements.size() != w.model.elements.size() || m.constraints.size() != w.model.constraints.size())
+    throw std::invalid_argument("ResultWriter::append: the state belongs to another model");
+
+  const bool first = !w.viz;
+  if (first) w.viz = io::VizGeometry::plan(state);
+  w.compute_step(state);  // throws before anything is written if the geometry changed size
+
+  // The .h5 first, flushed: the XDMF and CSV written next only ever name steps that are on disk.
+  const io::QuietHdf5Errors quiet;
+  const auto step = static_cast<hsize_t>(w.steps);
+  try {
+    if (first) w.create_viz();
+    std::vector<double> row;
+    for (auto& o : w.outputs) {
+      row.assign(static_cast<std::size_t>(o.series.row_size()), 0.0);
+      o.fill(state, row.data());
+      o.series.write(step, row.data(), w.ctx);
+    }
+    w.ctx.check(H5Fflush(w.file.get(), H5F_SCOPE_GLOBAL), "flush the file");
+  } catch (...) {
+    w.broken = true;
+    throw;
+  }
+  ++w.steps;
+
+  if (w.document) {
+    w.document->add_step(state.time());
+    // Rewriting the whole XDMF costs in proportion to the steps so far: after the first few
+    // steps it is rewritten at most once a second (and on close), so a run that stops early
+    // leaves an XDMF at most a second behind the .h5, which always has every step.
+    const auto now = std::chrono::steady_clock::now();
+    if (w.steps <= 16 || now - w.xdmf_written >= std::chrono::seconds(1)) {
+      io::replace_file(w.xdmf, w.document->text());
+      w.xdmf_written = now;
+      w.xdmf_stale = false;
+    } else {
+      w.xdmf_stale = true;
+    }
+  }
+  w.write_probe_row(state);
+}
+
+void ResultWriter::close() {
+  if (!impl_ || impl_->closed) return;
+  Impl& w = *impl_;
+  w.closed = true;
+  if (w.document && w.xdmf_stale && !w.broken) io::replace_file(w.xdmf, w.document->text());
+  const io::QuietHdf5Errors quiet;
+  bool ok = true;
+  for (auto& o : w.outputs) ok = o.series.close() >= 0 && ok;
+  ok = w.file.reset() >= 0 && ok;
+  const std::string h5_error = ok ? "" : io::hdf5_error_stack();
+  const int csv_status = w.probes ? std::fclose(w.probes) : 0;
+  const int csv_errno = errno;
+  w.probes = nullptr;
+  if (!ok) throw std::runtime_error("ResultWriter: cannot close '" + w.h5.string() + "': " + h5_error);
+  if (csv_status != 0) os_fail("close", w.csv, csv_errno);
+}
+
+fs::path ResultWriter::h5_path() const { return impl_->h5; }
+fs::path ResultWriter::xdmf_path() const { return impl_->xdmf; }
+fs::path ResultWriter::csv_path() const { return impl_->csv; }
+int ResultWriter::steps_written() const { return impl_->steps; }
+
+}  // namespace latticedyn

@@ -1,0 +1,87 @@
+// Results of a run on disk: one HDF5 file with the time series of the model state, an XDMF file
+// beside it that ParaView opens as a time series of line cells, and a CSV file of probe joints.
+#pragma once
+
+#include "assembly/model_state.hpp"
+
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace latticedyn {
+
+/// Where and what to write. Files: <directory>/<base_name>.h5, <base_name>.xdmf and
+/// <base_name>_probes.csv.
+struct ResultWriterOptions {
+  std::string directory;               ///< created if missing; empty: the working directory
+  std::string base_name = "results";   ///< no '/' or ':' (the XDMF addresses data as "file:/path")
+  std::vector<int> probe_joints;       ///< model joint indices written to the CSV, in this order
+};
+
+/// Writes one output time per append(). The layout, in full, is in docs/output-format.md; in short
+/// (T = steps written, every real in IEEE double, SI units):
+///
+///   /                        attributes title, generator = "latticedyn", format_version = 1
+///   /model/...               static description: block indices, labels, names, types, counts
+///   /time                    T
+///   /blocks/position         T x nTrans x 3   inertial, of every translation block (fixed too)
+///   /blocks/velocity         T x nTrans x 3   inertial
+///   /blocks/rotation_vector  T x nRot x 3     rotation_vector(R), |phi| <= pi
+///   /blocks/rotation_matrix  T x nRot x 3 x 3 R (block frame -> inertial), row-major
+///   /blocks/angular_velocity T x nRot x 3     block (body) frame
+///   /blocks/scalar_position, /blocks/scalar_velocity  T x nScalar
+///   /joints/position, /joints/velocity        T x nJoints x 3, inertial
+///   /constraints/multipliers T x nRows        all constraints' rows, in constraint order
+///   /constraints/violation   T x nConstraints max |g| of each constraint
+///   /elements/axial_force    T x nElements    NaN for elements without one
+///   /energy                  T x 3            kinetic, gravity potential, strain
+///   /energy_total            T
+///   /viz/points, /viz/displacement  T x nPoints x 3;  /viz/axial_force T x nLines
+///   /viz/lines nLines x 2, /viz/body nLines, /viz/element nLines (static)
+///
+/// A time series whose row would be empty (no constraints, no rotation blocks, ...) is not
+/// created. Time series are chunked along time and extended by one entry per append; the file is
+/// flushed after each append and the XDMF replaced atomically afterwards, so a run that stops
+/// (crash, kill, solver failure) leaves readable files holding every completed append.
+///
+/// Serial HDF5: use the writer on one MPI rank (the rank the state is gathered to). Not
+/// thread-safe. The Model must outlive the writer. A moved-from writer may only be destroyed or
+/// assigned to.
+class ResultWriter {
+ public:
+  /// Creates the directory, the HDF5 file (truncating an existing one) with its static part, and
+  /// the CSV with its header. Throws std::runtime_error naming the path and the operating-system
+  /// or HDF5 reason when a file cannot be created, std::invalid_argument for a bad base name,
+  /// probe joint or draw sequence.
+  ResultWriter(const Model& model, ResultWriterOptions opts);
+  /// Calls close(); an error there is reported on std::cerr, as a destructor cannot throw.
+  ~ResultWriter();
+  ResultWriter(ResultWriter&&) noexcept;
+  ResultWriter& operator=(ResultWriter&&) noexcept;
+  ResultWriter(const ResultWriter&) = delete;
+  ResultWriter& operator=(const ResultWriter&) = delete;
+
+  /// Writes one output time: extends every time series by one entry, flushes the HDF5 file,
+  /// then replaces the XDMF and appends (and flushes) one CSV row. The first call fixes the
+  /// visualisation geometry (points per element). Throws std::runtime_error on an I/O failure or
+  /// when an element's number of axis points changes (nothing is written then),
+  /// std::invalid_argument for a state of another model, std::logic_error after close() or after
+  /// an append that failed writing the .h5 (the files keep every step completed before it).
+  void append(const ModelState& state);
+
+  /// Flushes and closes all files. Idempotent.
+  void close();
+
+  std::filesystem::path h5_path() const;
+  std::filesystem::path xdmf_path() const;
+  std::filesystem::path csv_path() const;
+  /// Number of completed append() calls.
+  int steps_written() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace latticedyn

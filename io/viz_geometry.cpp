@@ -1,0 +1,99 @@
+// Line-cell geometry of the model for the XDMF output; the point list is fixed at the first output
+// because XDMF shares one topology (/viz/lines) between all time steps.
+#include "io/viz_geometry.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+
+namespace latticedyn::io {
+
+void VizGeometry::check_draw_sequences(const Model& model) {
+  for (const Body& body : model.bodies)
+    for (int i : body.draw_sequence)
+      if (i < 0 || i >= static_cast<int>(body.joints.size()))
+        throw std::invalid_argument("ResultWriter: body '" + body.name + "' draws joint " + std::to_string(i) +
+                                    " but has " + std::to_string(body.joints.size()) + " joints");
+}
+
+void VizGeometry::add_line(int a, int b, int body, int element) {
+  lines_.push_back(a);
+  lines_.push_back(b);
+  line_body_.push_back(body);
+  line_element_.push_back(element);
+}
+
+void VizGeometry::add_rigid_body(const Model& model, int b) {
+  const Body& body = model.bodies[b];
+  std::vector<int> point_of(body.joints.size(), -1);  // per body joint: one point however often drawn
+  auto joint_point = [&](int k) {
+    if (point_of[k] < 0) {
+      point_of[k] = num_points();
+      frame_points_.push_back({true, body.joints[k]});
+    }
+    return point_of[k];
+  };
+  const auto& seq = body.draw_sequence;
+  if (!seq.empty()) {
+    for (std::size_t i = 0; i + 1 < seq.size(); ++i) {
+      if (seq[i] == seq[i + 1]) continue;
+      const int from = joint_point(seq[i]);  // numbered in drawing order, not argument order
+      add_line(from, joint_point(seq[i + 1]), b, -1);
+    }
+  } else if (body.joints.size() >= 2) {
+    const int hub = joint_point(0);
+    for (std::size_t k = 1; k < body.joints.size(); ++k) add_line(hub, joint_point(static_cast<int>(k)), b, -1);
+  } else if (body.joints.size() == 1) {
+    // Origin and joint coincide at all times exactly when the constant body-frame offset is zero.
+    const Joint& j = model.joints[body.joints[0]];
+    if (j.rotation_block >= 0 && j.offset.norm() > 0) {
+      const int origin = num_points();
+      frame_points_.push_back({false, j.translation_block});
+      add_line(origin, joint_point(0), b, -1);
+    }
+  }
+}
+
+VizGeometry VizGeometry::plan(const ModelState& state) {
+  const Model& model = state.model();
+  VizGeometry g;
+  int next = 0;
+  for (std::size_t e = 0; e < model.elements.size(); ++e) {
+    const int n =
+        static_cast<int>(model.elements[e].element->axis_points(state.element_slots(static_cast<int>(e))).size());
+    g.axis_count_.push_back(n);
+    g.element_first_.push_back(n >= 2 ? next : -1);
+    if (n < 2) continue;  // a single point draws no line
+    for (int i = 0; i + 1 < n; ++i)
+      g.add_line(next + i, next + i + 1, model.elements[e].body, static_cast<int>(e));
+    next += n;
+  }
+  g.first_frame_point_ = next;
+  for (std::size_t b = 0; b < model.bodies.size(); ++b)
+    if (model.bodies[b].type == "rigid_body") g.add_rigid_body(model, static_cast<int>(b));
+  return g;
+}
+
+void VizGeometry::points(const ModelState& state, std::vector<double>& xyz) const {
+  const Model& model = state.model();
+  xyz.assign(3 * static_cast<std::size_t>(num_points()), 0.0);
+  for (std::size_t e = 0; e < model.elements.size(); ++e) {
+    const Element& element = *model.elements[e].element;
+    const auto pts = element.axis_points(state.element_slots(static_cast<int>(e)));
+    if (static_cast<int>(pts.size()) != axis_count_[e])
+      throw std::runtime_error("ResultWriter: element " + std::to_string(e) + " (" +
+                               std::string(element.type_name()) + ") has " + std::to_string(pts.size()) +
+                               " axis points, " + std::to_string(axis_count_[e]) +
+                               " at the first output; the drawn geometry must keep its size");
+    if (element_first_[e] < 0) continue;
+    for (std::size_t i = 0; i < pts.size(); ++i)
+      std::copy(pts[i].data(), pts[i].data() + 3, xyz.data() + 3 * (element_first_[e] + i));
+  }
+  for (std::size_t k = 0; k < frame_points_.size(); ++k) {
+    const FramePoint& p = frame_points_[k];
+    const Vec3 x = p.joint ? state.joint_position(p.index) : state.block(p.index).pos;
+    std::copy(x.data(), x.data() + 3, xyz.data() + 3 * (first_frame_point_ + k));
+  }
+}
+
+}  // namespace latticedyn::io

@@ -1,0 +1,52 @@
+// The model drawn as 2-node line cells for ParaView: element polylines through their axis points
+// and rigid bodies through their joints, with a point list whose size is fixed for the whole run.
+#pragma once
+
+#include "assembly/model_state.hpp"
+
+#include <vector>
+
+namespace latticedyn::io {
+
+/// Points and lines, in this order: every element with two or more axis points contributes a
+/// polyline through them (element order); every body of type "rigid_body" contributes lines
+/// through its joints (body order): its draw_sequence as a polyline, else a star from its first
+/// joint, else (one joint) a line from its translation block's origin to the joint when the
+/// joint's offset is non-zero. Points are not shared between elements or bodies.
+class VizGeometry {
+ public:
+  /// Throws std::invalid_argument for a draw_sequence entry outside its body's joints.
+  static void check_draw_sequences(const Model& model);
+  /// Fixes the geometry from the first state (elements' axis point counts).
+  static VizGeometry plan(const ModelState& state);
+
+  int num_points() const { return first_frame_point_ + static_cast<int>(frame_points_.size()); }
+  int num_lines() const { return static_cast<int>(line_body_.size()); }
+  /// Point indices, 2 per line.
+  const std::vector<int>& lines() const { return lines_; }
+  /// Body index of each line.
+  const std::vector<int>& line_body() const { return line_body_; }
+  /// Element index of each line, -1 for rigid-body lines.
+  const std::vector<int>& line_element() const { return line_element_; }
+
+  /// Point positions (3 per point) at `state`. Throws std::runtime_error if an element's number
+  /// of axis points differs from the first state's.
+  void points(const ModelState& state, std::vector<double>& xyz) const;
+
+ private:
+  /// A point at a joint's position or at a block's origin.
+  struct FramePoint {
+    bool joint = true;
+    int index = -1;
+  };
+  void add_line(int a, int b, int body, int element);
+  void add_rigid_body(const Model& model, int body);
+
+  std::vector<int> axis_count_;     // per element, from the first state
+  std::vector<int> element_first_;  // per element, its first point; -1 if not drawn
+  int first_frame_point_ = 0;
+  std::vector<FramePoint> frame_points_;
+  std::vector<int> lines_, line_body_, line_element_;
+};
+
+}  // namespace latticedyn::io

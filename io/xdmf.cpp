@@ -1,0 +1,122 @@
+// XDMF text for the results writer. Grids are spelled out in full rather than through XPath
+// references, which XDMF readers support unevenly; the extents they declare grow with every step.
+#include "io/xdmf.hpp"
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <stdexcept>
+#include <system_error>
+
+namespace latticedyn::io {
+
+namespace {
+
+std::string xml_escape(const std::string& s) {
+  std::string out;
+  for (char c : s) {
+    switch (c) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      default: out += c;
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+void XdmfDocument::add_step(double time) {
+  std::string& x = grids_;
+  const std::string h5 = xml_escape(layout_.h5_name), step = std::to_string(steps_);
+  const std::string lines = std::to_string(layout_.lines), points = std::to_string(layout_.points);
+
+  // A DataItem selecting this step's entry of a (T, n) or (T, n, 3) dataset as a (1, n[, 3]) array.
+  auto slab = [&](const char* dataset, const std::string& n, bool vector) {
+    x += "          <DataItem ItemType=\"HyperSlab\" Type=\"HyperSlab\" Dimensions=\"1 " + n +
+         (vector ? " 3" : "") + "\">\n";
+    if (vector)
+      x += "            <DataItem Dimensions=\"3 3\" NumberType=\"Int\" Format=\"XML\">" + step + " 0 0 1 1 1 1 " +
+           n + " 3</DataItem>\n";
+    else
+      x += "            <DataItem Dimensions=\"3 2\" NumberType=\"Int\" Format=\"XML\">" + step + " 0 1 1 1 " + n +
+           "</DataItem>\n";
+    x += "            <DataItem Dimensions=\"";
+    gaps_.push_back(x.size());
+    x += " " + n + (vector ? " 3" : "") + "\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">" + h5 +
+         ":/viz/" + dataset + "</DataItem>\n";
+    x += "          </DataItem>\n";
+  };
+  auto static_cell_ints = [&](const char* name) {
+    x += std::string("        <Attribute Name=\"") + name + "\" AttributeType=\"Scalar\" Center=\"Cell\">\n";
+    x += "          <DataItem Dimensions=\"" + lines + "\" NumberType=\"Int\" Precision=\"4\" Format=\"HDF\">" + h5 +
+         ":/viz/" + name + "</DataItem>\n";
+    x += "        </Attribute>\n";
+  };
+
+  x += "      <Grid Name=\"step " + step + "\" GridType=\"Uniform\">\n";
+  x += "        <Time Value=\"" + format_double(time) + "\"/>\n";
+  x += "        <Topology TopologyType=\"Polyline\" NodesPerElement=\"2\" NumberOfElements=\"" + lines + "\">\n";
+  x += "          <DataItem Dimensions=\"" + lines + " 2\" NumberType=\"Int\" Precision=\"4\" Format=\"HDF\">" + h5 +
+       ":/viz/lines</DataItem>\n";
+  x += "        </Topology>\n        <Geometry GeometryType=\"XYZ\">\n";
+  slab("points", points, true);
+  x += "        </Geometry>\n";
+  x += "        <Attribute Name=\"displacement\" AttributeType=\"Vector\" Center=\"Node\">\n";
+  slab("displacement", points, true);
+  x += "        </Attribute>\n";
+  x += "        <Attribute Name=\"axial_force\" AttributeType=\"Scalar\" Center=\"Cell\">\n";
+  slab("axial_force", lines, false);
+  x += "        </Attribute>\n";
+  static_cell_ints("body");
+  static_cell_ints("element");
+  x += "      </Grid>\n";
+  ++steps_;
+}
+
+std::string XdmfDocument::text() const {
+  const std::string steps = std::to_string(steps_);
+  std::string x;
+  x.reserve(grids_.size() + steps.size() * gaps_.size() + 512);
+  x += "<?xml version=\"1.0\" ?>\n<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n<Xdmf Version=\"2.0\">\n  <Domain>\n";
+  x += "    <Grid Name=\"" + xml_escape(layout_.title) + "\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+  std::size_t from = 0;
+  for (std::size_t gap : gaps_) {
+    x.append(grids_, from, gap - from);
+    x += steps;
+    from = gap;
+  }
+  x.append(grids_, from, std::string::npos);
+  x += "    </Grid>\n  </Domain>\n</Xdmf>\n";
+  return x;
+}
+
+void replace_file(const std::filesystem::path& path, const std::string& text) {
+  auto fail = [](const char* what, const std::filesystem::path& p, int err) {
+    throw std::runtime_error(std::string("ResultWriter: cannot ") + what + " '" + p.string() +
+                             "': " + std::strerror(err));
+  };
+  std::filesystem::path tmp = path;
+  tmp += ".tmp";
+  std::FILE* f = std::fopen(tmp.c_str(), "wb");
+  if (!f) fail("create", tmp, errno);
+  const bool written = std::fwrite(text.data(), 1, text.size(), f) == text.size();
+  const int write_errno = errno;
+  if (std::fclose(f) != 0) fail("write", tmp, errno);
+  if (!written) fail("write", tmp, write_errno);
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec)
+    throw std::runtime_error("ResultWriter: cannot rename '" + tmp.string() + "' to '" + path.string() +
+                             "': " + ec.message());
+}
+
+std::string format_double(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.17g", x);
+  return buf;
+}
+
+}  // namespace latticedyn::io

@@ -1,0 +1,44 @@
+#!/usr/bin/env python3
+"""Closed-form reference numbers of the verification cases (prints them; the check files hold them).
+
+- pendulum: exact period of a physical pendulum, T = 4 K(k) / omega0 with k = sin(theta0 / 2),
+  omega0^2 = m g d / I_O (e.g. Landau & Lifshitz, Mechanics, section 11, problem 1); K by the
+  arithmetic-geometric mean.
+- conical pendulum: steady precession of a rod + bob at cone angle theta,
+  Omega^2 = (m_r L / 2 + m_b L) g / (I_O cos theta), I_O = m_r L^2 / 3 + rho I_m L + m_b L^2
+  (Lagrange's equations for T = I_O/2 (theta_dot^2 + sin^2 theta psi_dot^2)).
+- block on an incline: s(t) = g sin(alpha) t^2 / 2 along the incline, normal force m g cos(alpha).
+"""
+import math
+
+
+def agm(a, b):
+    while abs(a - b) > 1e-15 * a:
+        a, b = (a + b) / 2, math.sqrt(a * b)
+    return a
+
+
+g = 9.81
+# --- physical pendulum (examples/pendulum.yaml): rod 1 m, 2 kg, released at 10 degrees
+m, L, theta0 = 2.0, 1.0, math.radians(10)
+I_O = m * L**2 / 3
+omega0 = math.sqrt(m * g * (L / 2) / I_O)
+k = math.sin(theta0 / 2)
+K = math.pi / (2 * agm(1.0, math.sqrt(1 - k * k)))
+print(f"pendulum: small-amplitude period {2 * math.pi / omega0:.10f} s, at 10 deg {4 * K / omega0:.10f} s")
+
+# --- conical pendulum (verification/cases/conical_pendulum.yaml)
+rho, r, Lr, mb, theta = 7800.0, 0.01, 1.0, 5.0, math.radians(30)
+mr = rho * math.pi * r**2 * Lr
+I_m = math.pi * r**4 / 4  # (Iy + Iz) / 2 of a solid round section
+I_O = mr * Lr**2 / 3 + rho * I_m * Lr + mb * Lr**2
+Omega = math.sqrt((mr * Lr / 2 + mb * Lr) * g / (I_O * math.cos(theta)))
+print(f"conical pendulum: rod mass {mr:.10f} kg, Omega {Omega:.10f} rad/s, period {2 * math.pi / Omega:.10f} s")
+print(f"  bob at ({Lr * math.sin(theta):.10f}, 0, {-Lr * math.cos(theta):.10f}), speed {Omega * Lr * math.sin(theta):.10f} m/s")
+
+# --- block on an incline (verification/cases/incline.yaml): alpha = 30 deg, m = 5 kg
+alpha, mblk = math.radians(30), 5.0
+for t in (0.5, 1.0, 1.5):
+    s = 0.5 * g * math.sin(alpha) * t * t
+    print(f"incline: t = {t}: s = {s:.10f}, x = {s * math.cos(alpha):.10f}, z = {-s * math.sin(alpha):.10f}")
+print(f"incline: normal force {mblk * g * math.cos(alpha):.10f} N")

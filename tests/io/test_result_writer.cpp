@@ -1,0 +1,554 @@
+// Round trip of the results writer: states of small models written, the .h5 read back with the
+// HDF5 C API, the XDMF checked against it, the CSV parsed; readability mid-run and error paths.
+#include "io/result_writer.hpp"
+
+#include "assembly/system_assembler.hpp"
+#include "core/rotation.hpp"
+#include "tests/assembly/sample_models.hpp"
+
+#include <gtest/gtest.h>
+#include <hdf5.h>
+#include <petscvec.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <fstream>
+#include <numbers>
+#include <regex>
+#include <sstream>
+
+namespace latticedyn {
+namespace {
+
+namespace fs = std::filesystem;
+
+// ---- scratch folder and model states ----------------------------------------------------------
+
+/// A fresh folder per test (ctest may run tests in parallel), removed afterwards.
+struct ScratchDir {
+  fs::path path;
+  ScratchDir() {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    path = fs::temp_directory_path() /
+           ("latticedyn_io_" + std::string(info->name()) + "_" + std::to_string(::getpid()));
+    fs::remove_all(path);
+  }
+  ~ScratchDir() {
+    std::error_code ec;
+    fs::remove_all(path, ec);
+  }
+};
+
+/// A model, its assembler and `n` gathered states at t = 0.1 k whose coordinates, rates and
+/// multipliers move away from the initial state by different amounts at each step.
+struct Recording {
+  Model model;
+  std::unique_ptr<SystemAssembler> sa;
+  std::vector<ModelState> states;
+
+  Recording(Model m, int n) : model(std::move(m)), sa(std::make_unique<SystemAssembler>(model, PETSC_COMM_SELF)) {
+    Vec U, V;
+    EXPECT_EQ(sa->create_vector(&U), 0);
+    EXPECT_EQ(sa->create_vector(&V), 0);
+    EXPECT_EQ(sa->initial_state(U, V), 0);
+    const int size = sa->dofs().global_size();
+    std::vector<double> u0(size), v0(size);
+    PetscScalar *u, *v;
+    VecGetArray(U, &u);
+    VecGetArray(V, &v);
+    std::copy(u, u + size, u0.begin());
+    std::copy(v, v + size, v0.begin());
+    VecRestoreArray(U, &u);
+    VecRestoreArray(V, &v);
+    states.reserve(n);
+    for (int k = 0; k < n; ++k) {
+      VecGetArray(U, &u);
+      VecGetArray(V, &v);
+      for (int i = 0; i < size; ++i) {
+        u[i] = u0[i] + 0.05 * k * std::sin(1.3 * i + 0.7) + (i >= size - model.num_multipliers() ? 10.0 * k + i : 0.0);
+        v[i] = v0[i] + 0.1 * k * std::cos(0.9 * i);
+      }
+      VecRestoreArray(U, &u);
+      VecRestoreArray(V, &v);
+      states.emplace_back(model, sa->dofs());
+      EXPECT_EQ(sa->gather(0.1 * k, U, V, nullptr, Parametrization::rotation_vector_rates, &states.back()), 0);
+    }
+    VecDestroy(&U);
+    VecDestroy(&V);
+  }
+};
+
+// ---- reading HDF5 back --------------------------------------------------------------------------
+
+struct H5File {
+  hid_t id;
+  explicit H5File(const fs::path& p) : id(H5Fopen(p.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT)) {}
+  ~H5File() {
+    if (id >= 0) H5Fclose(id);
+  }
+};
+
+bool exists(hid_t file, const std::string& path) {
+  std::size_t pos = 0;
+  while ((pos = path.find('/', pos + 1)) != std::string::npos)
+    if (H5Lexists(file, path.substr(0, pos).c_str(), H5P_DEFAULT) <= 0) return false;
+  return H5Lexists(file, path.c_str(), H5P_DEFAULT) > 0;
+}
+
+template <class T>
+struct Data {
+  std::vector<hsize_t> dims;
+  std::vector<T> v;
+  /// Row-major element at a multi-index.
+  T at(std::initializer_list<hsize_t> idx) const {
+    hsize_t off = 0, d = 0;
+    for (hsize_t i : idx) off = off * dims[d++] + i;
+    return v.at(off);
+  }
+};
+
+std::vector<hsize_t> shape(hid_t ds) {
+  const hid_t space = H5Dget_space(ds);
+  std::vector<hsize_t> dims(H5Sget_simple_extent_ndims(space));
+  H5Sget_simple_extent_dims(space, dims.data(), nullptr);
+  H5Sclose(space);
+  return dims;
+}
+
+template <class T>
+Data<T> read(hid_t file, const std::string& path) {
+  const hid_t ds = H5Dopen2(file, path.c_str(), H5P_DEFAULT);
+  if (ds < 0) throw std::runtime_error("no dataset " + path);
+  Data<T> d{shape(ds), {}};
+  hsize_t n = 1;
+  for (hsize_t x : d.dims) n *= x;
+  d.v.resize(n);
+  const hid_t mem = std::is_same_v<T, double> ? H5T_NATIVE_DOUBLE : H5T_NATIVE_INT;
+  if (n > 0) {
+    EXPECT_GE(H5Dread(ds, mem, H5S_ALL, H5S_ALL, H5P_DEFAULT, d.v.data()), 0) << path;
+  }
+  H5Dclose(ds);
+  return d;
+}
+
+hid_t vlen_string_type() {
+  const hid_t t = H5Tcopy(H5T_C_S1);
+  H5Tset_size(t, H5T_VARIABLE);
+  H5Tset_cset(t, H5T_CSET_UTF8);
+  return t;
+}
+
+std::vector<std::string> read_strings(hid_t file, const std::string& path) {
+  const hid_t ds = H5Dopen2(file, path.c_str(), H5P_DEFAULT);
+  if (ds < 0) throw std::runtime_error("no dataset " + path);
+  const auto dims = shape(ds);
+  std::vector<char*> raw(dims.at(0));
+  const hid_t t = vlen_string_type();
+  if (!raw.empty()) {
+    EXPECT_GE(H5Dread(ds, t, H5S_ALL, H5S_ALL, H5P_DEFAULT, raw.data()), 0);
+  }
+  std::vector<std::string> out;
+  for (char* s : raw) {
+    out.emplace_back(s);
+    H5free_memory(s);
+  }
+  H5Tclose(t);
+  H5Dclose(ds);
+  return out;
+}
+
+std::string string_attribute(hid_t file, const char* name) {
+  const hid_t a = H5Aopen_by_name(file, "/", name, H5P_DEFAULT, H5P_DEFAULT);
+  if (a < 0) throw std::runtime_error(std::string("no attribute ") + name);
+  const hid_t t = vlen_string_type();
+  char* s = nullptr;
+  H5Aread(a, t, &s);
+  std::string out = s ? s : "";
+  H5free_memory(s);
+  H5Tclose(t);
+  H5Aclose(a);
+  return out;
+}
+
+int int_attribute(hid_t file, const char* name) {
+  const hid_t a = H5Aopen_by_name(file, "/", name, H5P_DEFAULT, H5P_DEFAULT);
+  if (a < 0) throw std::runtime_error(std::string("no attribute ") + name);
+  int v = -1;
+  H5Aread(a, H5T_NATIVE_INT, &v);
+  H5Aclose(a);
+  return v;
+}
+
+// ---- XDMF and CSV ------------------------------------------------------------------------------
+
+std::string slurp(const fs::path& p) {
+  std::ifstream f(p);
+  std::stringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
+/// Well-formedness for the subset of XML the writer produces: every element closed, properly
+/// nested, one root.
+void expect_well_formed(const std::string& xml) {
+  std::vector<std::string> open;
+  int roots = 0;
+  for (std::size_t i = xml.find('<'); i != std::string::npos; i = xml.find('<', i + 1)) {
+    const std::size_t end = xml.find('>', i);
+    ASSERT_NE(end, std::string::npos);
+    const std::string tag = xml.substr(i + 1, end - i - 1);
+    if (tag[0] == '?' || tag[0] == '!') continue;
+    if (tag[0] == '/') {
+      ASSERT_FALSE(open.empty()) << tag;
+      EXPECT_EQ(open.back(), tag.substr(1));
+      open.pop_back();
+      continue;
+    }
+    const std::string name = tag.substr(0, tag.find_first_of(" />"));
+    if (open.empty()) ++roots;
+    if (tag.back() != '/') open.push_back(name);
+  }
+  EXPECT_TRUE(open.empty());
+  EXPECT_EQ(roots, 1);
+}
+
+/// Checks the XDMF's structure and that each of its HDF references names an existing dataset of
+/// the declared dimensions in `h5`, by a file name relative to the XDMF.
+void expect_xdmf_matches(const fs::path& xdmf, hid_t h5, const std::vector<double>& times) {
+  const std::string text = slurp(xdmf);
+  expect_well_formed(text);
+  EXPECT_NE(text.find("CollectionType=\"Temporal\""), std::string::npos);
+
+  const std::regex uniform("GridType=\"Uniform\"");
+  EXPECT_EQ(std::distance(std::sregex_iterator(text.begin(), text.end(), uniform), std::sregex_iterator()),
+            static_cast<long>(times.size()));
+
+  const std::regex time("<Time Value=\"([^\"]+)\"/>");
+  std::size_t k = 0;
+  for (auto it = std::sregex_iterator(text.begin(), text.end(), time); it != std::sregex_iterator(); ++it, ++k) {
+    ASSERT_LT(k, times.size());
+    EXPECT_EQ(std::stod((*it)[1]), times[k]);
+  }
+  EXPECT_EQ(k, times.size());
+
+  const std::regex item("<DataItem Dimensions=\"([0-9 ]+)\"([^>]*)Format=\"HDF\">([^<:]+):([^<]+)</DataItem>");
+  int references = 0;
+  for (auto it = std::sregex_iterator(text.begin(), text.end(), item); it != std::sregex_iterator(); ++it) {
+    ++references;
+    const std::string attrs = (*it)[2], file = (*it)[3], path = (*it)[4];
+    EXPECT_EQ(file, xdmf.stem().string() + ".h5");
+    ASSERT_TRUE(exists(h5, path)) << path;
+    const hid_t ds = H5Dopen2(h5, path.c_str(), H5P_DEFAULT);
+    std::vector<hsize_t> declared;
+    std::istringstream dims((*it)[1]);
+    for (hsize_t d; dims >> d;) declared.push_back(d);
+    EXPECT_EQ(shape(ds), declared) << path;
+    const hid_t t = H5Dget_type(ds);
+    if (H5Tget_class(t) == H5T_FLOAT) {
+      EXPECT_NE(attrs.find("Precision=\"8\""), std::string::npos) << path;
+    }
+    H5Tclose(t);
+    H5Dclose(ds);
+  }
+  // Per grid: lines, points, displacement, axial_force, body, element.
+  EXPECT_EQ(references, 6 * static_cast<int>(times.size()));
+}
+
+std::vector<std::vector<std::string>> read_csv(const fs::path& p) {
+  std::ifstream f(p);
+  std::vector<std::vector<std::string>> rows;
+  for (std::string line; std::getline(f, line);) {
+    rows.emplace_back();
+    std::istringstream s(line);
+    for (std::string cell; std::getline(s, cell, ',');) rows.back().push_back(cell);
+  }
+  return rows;
+}
+
+// ---- tests ----------------------------------------------------------------------------------------
+
+TEST(ResultWriter, RoundTripOfThreeSteps) {
+  ScratchDir dir;
+  Recording run(testing::kitchen_sink_model(), 3);
+  const Model& model = run.model;
+  const int probe_d = model.find_joint("d.1"), probe_a = model.find_joint("a.0");
+  ResultWriter writer(model, {dir.path.string(), "results", {probe_d, probe_a}});
+  EXPECT_EQ(writer.h5_path(), dir.path / "results.h5");
+  for (const auto& s : run.states) writer.append(s);
+  EXPECT_EQ(writer.steps_written(), 3);
+  writer.close();
+  writer.close();  // idempotent
+  EXPECT_THROW(writer.append(run.states[0]), std::logic_error);
+
+  H5File f(writer.h5_path());
+  ASSERT_GE(f.id, 0);
+  EXPECT_EQ(string_attribute(f.id, "generator"), "latticedyn");
+  EXPECT_EQ(string_attribute(f.id, "title"), model.title);
+  EXPECT_EQ(int_attribute(f.id, "format_version"), 1);
+
+  const std::vector<double> times{0.0, 0.1, 0.2};
+  EXPECT_EQ(read<double>(f.id, "/time").v, times);
+
+  // Static description.
+  std::vector<int> trans, rot;
+  for (int b = 0; b < static_cast<int>(model.blocks.size()); ++b)
+    (model.blocks[b].kind == SlotKind::translation ? trans : rot).push_back(b);
+  EXPECT_EQ(read<int>(f.id, "/model/translation_blocks").v, trans);
+  EXPECT_EQ(read<int>(f.id, "/model/rotation_blocks").v, rot);
+  const auto joint_names = read_strings(f.id, "/model/joint_names");
+  ASSERT_EQ(joint_names.size(), model.joints.size());
+  for (std::size_t j = 0; j < model.joints.size(); ++j) EXPECT_EQ(joint_names[j], model.joints[j].name);
+  const auto types = read_strings(f.id, "/model/constraint_types");
+  const auto rows = read<int>(f.id, "/model/constraint_rows").v;
+  ASSERT_EQ(types.size(), model.constraints.size());
+  for (std::size_t c = 0; c < model.constraints.size(); ++c) {
+    EXPECT_EQ(types[c], to_string(model.constraints[c].type));
+    EXPECT_EQ(rows[c], model.constraints[c].rows());
+  }
+  EXPECT_EQ(read_strings(f.id, "/model/element_types").at(0), "rigid_body");
+  EXPECT_EQ(read_strings(f.id, "/model/body_names").at(0), "ground");
+
+  const auto pos = read<double>(f.id, "/blocks/position");
+  const auto vel = read<double>(f.id, "/blocks/velocity");
+  const auto phi = read<double>(f.id, "/blocks/rotation_vector");
+  const auto R = read<double>(f.id, "/blocks/rotation_matrix");
+  const auto omega = read<double>(f.id, "/blocks/angular_velocity");
+  EXPECT_EQ(pos.dims, (std::vector<hsize_t>{3, trans.size(), 3}));
+  EXPECT_EQ(R.dims, (std::vector<hsize_t>{3, rot.size(), 3, 3}));
+  EXPECT_FALSE(exists(f.id, "/blocks/scalar_position"));  // no scalar blocks: not created
+  const auto jpos = read<double>(f.id, "/joints/position");
+  const auto jvel = read<double>(f.id, "/joints/velocity");
+  EXPECT_EQ(jpos.dims, (std::vector<hsize_t>{3, model.joints.size(), 3}));
+  const auto lambda = read<double>(f.id, "/constraints/multipliers");
+  const auto violation = read<double>(f.id, "/constraints/violation");
+  EXPECT_EQ(lambda.dims, (std::vector<hsize_t>{3, static_cast<hsize_t>(model.num_multipliers())}));
+  const auto axial = read<double>(f.id, "/elements/axial_force");
+  const auto energy = read<double>(f.id, "/energy");
+  const auto energy_total = read<double>(f.id, "/energy_total");
+
+  for (hsize_t k = 0; k < 3; ++k) {
+    const ModelState& s = run.states[k];
+    for (hsize_t i = 0; i < trans.size(); ++i)
+      for (hsize_t c = 0; c < 3; ++c) {
+        EXPECT_EQ(pos.at({k, i, c}), s.block(trans[i]).pos(c));
+        EXPECT_EQ(vel.at({k, i, c}), s.block(trans[i]).vel(c));
+      }
+    for (hsize_t i = 0; i < rot.size(); ++i) {
+      const Vec3 p = rotation_vector(s.block(rot[i]).rot);
+      EXPECT_LE(p.norm(), std::numbers::pi + 1e-12);
+      for (hsize_t c = 0; c < 3; ++c) {
+        EXPECT_EQ(phi.at({k, i, c}), p(c));
+        EXPECT_EQ(omega.at({k, i, c}), s.block(rot[i]).vel(c));
+        for (hsize_t d = 0; d < 3; ++d) EXPECT_EQ(R.at({k, i, c, d}), s.block(rot[i]).rot(c, d));  // row-major
+      }
+    }
+    for (hsize_t j = 0; j < model.joints.size(); ++j)
+      for (hsize_t c = 0; c < 3; ++c) {
+        EXPECT_EQ(jpos.at({k, j, c}), s.joint_position(static_cast<int>(j))(c));
+        EXPECT_EQ(jvel.at({k, j, c}), s.joint_velocity(static_cast<int>(j))(c));
+      }
+    hsize_t row = 0;
+    for (std::size_t c = 0; c < model.constraints.size(); ++c) {
+      const Eigen::VectorXd l = s.multipliers(static_cast<int>(c));
+      for (int i = 0; i < l.size(); ++i) EXPECT_EQ(lambda.at({k, row++}), l(i));
+      EXPECT_EQ(violation.at({k, c}), s.constraint_values(static_cast<int>(c)).cwiseAbs().maxCoeff());
+    }
+    if (k == 2) {
+      EXPECT_NE(lambda.at({k, 0}), 0.0);  // the multipliers did move
+    }
+    for (hsize_t e = 0; e < model.elements.size(); ++e) {
+      const auto N = s.axial_force(static_cast<int>(e));
+      if (N) {
+        EXPECT_EQ(axial.at({k, e}), *N);
+      } else {
+        EXPECT_TRUE(std::isnan(axial.at({k, e})));
+      }
+    }
+    const ElementEnergy E = s.energy();
+    EXPECT_EQ(energy.at({k, 0}), E.kinetic);
+    EXPECT_EQ(energy.at({k, 1}), E.gravity_potential);
+    EXPECT_EQ(energy.at({k, 2}), E.strain);
+    EXPECT_DOUBLE_EQ(energy_total.v[k], E.kinetic + E.gravity_potential + E.strain);
+  }
+
+  // Drawing: 2 strut ties (2 axis points, 1 line each), 4 rigid bodies with 2 joints (a star of
+  // 1 line each); rigid body elements have no axis points.
+  const auto points = read<double>(f.id, "/viz/points");
+  const auto disp = read<double>(f.id, "/viz/displacement");
+  const auto lines = read<int>(f.id, "/viz/lines");
+  const auto body = read<int>(f.id, "/viz/body");
+  const auto element = read<int>(f.id, "/viz/element");
+  const auto viz_axial = read<double>(f.id, "/viz/axial_force");
+  EXPECT_EQ(points.dims, (std::vector<hsize_t>{3, 12, 3}));
+  EXPECT_EQ(lines.dims, (std::vector<hsize_t>{6, 2}));
+  EXPECT_EQ(body.dims, (std::vector<hsize_t>{6}));
+  EXPECT_EQ(viz_axial.dims, (std::vector<hsize_t>{3, 6}));
+  for (hsize_t k = 0; k < 3; ++k) {
+    const ModelState& s = run.states[k];
+    auto point = [&](int p) {
+      return Vec3(points.at({k, hsize_t(p), 0}), points.at({k, hsize_t(p), 1}), points.at({k, hsize_t(p), 2}));
+    };
+    for (hsize_t l = 0; l < 6; ++l) {
+      const int a = lines.at({l, 0}), b = lines.at({l, 1}), e = element.v[l];
+      ASSERT_TRUE(a >= 0 && a < 12 && b >= 0 && b < 12);
+      std::vector<Vec3> expected;
+      if (e >= 0) {
+        expected = model.elements[e].element->axis_points(s.element_slots(e));
+        EXPECT_EQ(body.v[l], model.elements[e].body);
+        EXPECT_EQ(viz_axial.at({k, l}), *s.axial_force(e));
+      } else {
+        const Body& bd = model.bodies[body.v[l]];
+        EXPECT_EQ(bd.type, "rigid_body");
+        expected = {s.joint_position(bd.joints[0]), s.joint_position(bd.joints[1])};
+        EXPECT_EQ(viz_axial.at({k, l}), 0.0);
+      }
+      EXPECT_EQ(point(a), expected.at(0));
+      EXPECT_EQ(point(b), expected.at(1));
+    }
+    for (hsize_t p = 0; p < 12; ++p)
+      for (hsize_t c = 0; c < 3; ++c) EXPECT_EQ(disp.at({k, p, c}), points.at({k, p, c}) - points.at({0, p, c}));
+  }
+  EXPECT_EQ(disp.at({2, 0, 0}), 0.0);  // the first tie's first end is tied to the ground
+  EXPECT_NE(disp.at({2, 2, 0}), 0.0);
+
+  expect_xdmf_matches(writer.xdmf_path(), f.id, times);
+
+  const auto csv = read_csv(writer.csv_path());
+  ASSERT_EQ(csv.size(), 4u);
+  for (const auto& row : csv) EXPECT_EQ(row.size(), 13u);
+  EXPECT_EQ(csv[0][0], "time");
+  EXPECT_EQ(csv[0][1], "d.1.x");
+  EXPECT_EQ(csv[0][12], "a.0.vz");
+  for (int k = 0; k < 3; ++k) {
+    const ModelState& s = run.states[k];
+    EXPECT_EQ(std::stod(csv[k + 1][0]), times[k]);
+    EXPECT_EQ(std::stod(csv[k + 1][2]), s.joint_position(probe_d).y());  // %.17g reads back exactly
+    EXPECT_EQ(std::stod(csv[k + 1][12]), s.joint_velocity(probe_a).z());
+  }
+}
+
+TEST(ResultWriter, FilesAreReadableWhileTheWriterIsOpen) {
+  ScratchDir dir;
+  Recording run(testing::kitchen_sink_model(), 2);
+  ResultWriter writer(run.model, {dir.path.string(), "partial", {0}});
+  for (const auto& s : run.states) writer.append(s);
+
+  // What a killed process leaves is the file's bytes on disk: read a copy of them.
+  const fs::path copy = dir.path / "copy.h5";
+  fs::copy_file(writer.h5_path(), copy);
+  {
+    H5File f(copy);
+    ASSERT_GE(f.id, 0);
+    EXPECT_EQ(read<double>(f.id, "/time").v, (std::vector<double>{0.0, 0.1}));
+    const auto jpos = read<double>(f.id, "/joints/position");
+    ASSERT_EQ(jpos.dims.at(0), 2u);
+    EXPECT_EQ(jpos.at({1, 3, 2}), run.states[1].joint_position(3).z());
+    EXPECT_EQ(read<double>(f.id, "/viz/points").dims.at(0), 2u);
+    EXPECT_EQ(read<double>(f.id, "/constraints/multipliers").dims.at(0), 2u);
+  }
+  {
+    H5File f(writer.h5_path());  // the file itself, writer still open
+    ASSERT_GE(f.id, 0);
+    EXPECT_EQ(read<double>(f.id, "/energy_total").dims.at(0), 2u);
+    expect_xdmf_matches(writer.xdmf_path(), f.id, {0.0, 0.1});
+  }
+  EXPECT_FALSE(fs::exists(dir.path / "partial.xdmf.tmp"));
+  EXPECT_EQ(read_csv(writer.csv_path()).size(), 3u);
+  EXPECT_EQ(writer.steps_written(), 2);
+}
+
+TEST(ResultWriter, ModelWithoutConstraintsAndDrawSequences) {
+  ModelBuilder b;
+  b.set_title("two bodies");
+  const auto boom = testing::add_rigid_body(b, "boom", 2.0, Vec3::Zero(), Vec3(0.1, 0.2, 0.3));
+  for (int i = 0; i < 3; ++i) testing::add_body_joint(b, boom, std::to_string(i), Vec3(i, 0.5 * i * i, 0));
+  b.set_draw_sequence(boom.body, {0, 1, 2, 0});  // closed triangle: 3 points, 3 lines
+  const auto hook = testing::add_rigid_body(b, "hook", 1.0, Vec3(3, 0, 0), Vec3::Zero());
+  testing::add_body_joint(b, hook, "eye", Vec3(0, 0, -1));  // origin to joint: 2 points, 1 line
+  Recording run(b.build(), 2);
+
+  ScratchDir dir;
+  ResultWriter writer(run.model, {dir.path.string(), "free", {}});
+  for (const auto& s : run.states) writer.append(s);
+  writer.close();
+
+  H5File f(writer.h5_path());
+  ASSERT_GE(f.id, 0);
+  EXPECT_EQ(string_attribute(f.id, "title"), "two bodies");
+  EXPECT_FALSE(exists(f.id, "/constraints/multipliers"));
+  EXPECT_FALSE(exists(f.id, "/constraints/violation"));
+  EXPECT_EQ(read<int>(f.id, "/model/constraint_rows").dims, (std::vector<hsize_t>{0}));
+  EXPECT_EQ(read_strings(f.id, "/model/constraint_names").size(), 0u);
+  EXPECT_EQ(read<int>(f.id, "/model/constraint_joints").dims, (std::vector<hsize_t>{0, 2}));
+
+  const auto points = read<double>(f.id, "/viz/points");
+  const auto lines = read<int>(f.id, "/viz/lines");
+  EXPECT_EQ(points.dims, (std::vector<hsize_t>{2, 5, 3}));
+  EXPECT_EQ(lines.v, (std::vector<int>{0, 1, 1, 2, 2, 0, 3, 4}));
+  EXPECT_EQ(read<int>(f.id, "/viz/body").v, (std::vector<int>{boom.body, boom.body, boom.body, hook.body}));
+  const ModelState& s = run.states[1];
+  const int eye = run.model.find_joint("hook.eye");
+  for (hsize_t c = 0; c < 3; ++c) {
+    EXPECT_EQ(points.at({1, 3, c}), s.block(run.model.joints[eye].translation_block).pos(c));
+    EXPECT_EQ(points.at({1, 4, c}), s.joint_position(eye)(c));
+  }
+  expect_xdmf_matches(writer.xdmf_path(), f.id, {0.0, 0.1});
+  const auto csv = read_csv(writer.csv_path());
+  ASSERT_EQ(csv.size(), 3u);
+  EXPECT_EQ(csv[0], std::vector<std::string>{"time"});
+}
+
+TEST(ResultWriter, ANewRunTruncatesTheFilesOfTheLast) {
+  ScratchDir dir;
+  Recording run(testing::kitchen_sink_model(), 2);
+  {
+    ResultWriter first(run.model, {dir.path.string(), "results", {}});
+    for (const auto& s : run.states) first.append(s);
+  }
+  ResultWriter second(run.model, {dir.path.string(), "results", {}});
+  EXPECT_FALSE(fs::exists(second.xdmf_path()));  // it would describe steps the new .h5 lacks
+  H5File f(second.h5_path());
+  ASSERT_GE(f.id, 0);
+  EXPECT_EQ(read<double>(f.id, "/time").dims, (std::vector<hsize_t>{0}));
+  EXPECT_EQ(read_csv(second.csv_path()).size(), 1u);
+}
+
+TEST(ResultWriter, UnwritableLocationsNameThePath) {
+  ScratchDir dir;
+  fs::create_directories(dir.path);
+  const Model model = testing::kitchen_sink_model();
+
+  // A regular file where a directory should be (root ignores permission bits, this it cannot).
+  std::ofstream(dir.path / "plain_file") << "x";
+  const fs::path below_file = dir.path / "plain_file" / "out";
+  try {
+    ResultWriter w(model, {below_file.string(), "results", {}});
+    FAIL() << "no exception";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(below_file.string()), std::string::npos) << e.what();
+  }
+
+  // The .h5 path taken by a directory: H5Fcreate fails; the message carries HDF5's reason.
+  fs::create_directories(dir.path / "taken" / "results.h5");
+  try {
+    ResultWriter w(model, {(dir.path / "taken").string(), "results", {}});
+    FAIL() << "no exception";
+  } catch (const std::runtime_error& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find((dir.path / "taken" / "results.h5").string()), std::string::npos) << what;
+    EXPECT_NE(what.find("Is a directory"), std::string::npos) << what;
+  }
+}
+
+TEST(ResultWriter, RejectsBadOptions) {
+  ScratchDir dir;
+  Model model = testing::kitchen_sink_model();
+  EXPECT_THROW(ResultWriter(model, {dir.path.string(), "results", {99}}), std::invalid_argument);
+  EXPECT_THROW(ResultWriter(model, {dir.path.string(), "a:b", {}}), std::invalid_argument);
+  EXPECT_THROW(ResultWriter(model, {dir.path.string(), "", {}}), std::invalid_argument);
+  model.bodies[1].draw_sequence = {0, 5};
+  EXPECT_THROW(ResultWriter(model, {dir.path.string(), "results", {}}), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace latticedyn

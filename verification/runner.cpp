@@ -1,0 +1,215 @@
+// latticedyn_verify CASE.check.yaml: runs the model a verification case names and compares the
+// quantities it lists with their reference values (closed forms or published numbers, named in
+// the case). Prints one line per check; exit code 0 when all pass, 1 otherwise, 2 for bad input.
+#include "verification/trajectory.hpp"
+
+#include "io/input_node.hpp"
+
+#include <petscsys.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+
+namespace latticedyn {
+namespace {
+
+struct Result {
+  std::string what;
+  double value = 0.0;
+  std::string expectation;
+  bool pass = false;
+};
+
+int component_of(const InputNode& n) {
+  const std::string c = n.as_choice({"x", "y", "z"});
+  return c[0] - 'x';
+}
+
+int body_element(const Model& m, const InputNode& n) {
+  const int b = m.find_body(n.as_string());
+  if (b < 0) n.fail("no body named '" + n.as_string() + "' in the model");
+  if (m.bodies[b].elements.empty()) n.fail("body '" + n.as_string() + "' has no element");
+  return m.bodies[b].elements.front();
+}
+
+int joint_of(const Model& m, const InputNode& n) {
+  const int j = m.find_joint(n.as_string());
+  if (j < 0) n.fail("no joint named '" + n.as_string() + "' in the model");
+  return j;
+}
+
+int constraint_of(const Model& m, const InputNode& n) {
+  for (std::size_t c = 0; c < m.constraints.size(); ++c)
+    if (m.constraints[c].name == n.as_string()) return static_cast<int>(c);
+  n.fail("no constraint named '" + n.as_string() + "' with multipliers in the model");
+}
+
+// Compares against {expected, abs_tol | rel_tol}.
+Result compare(const InputNode& c, const std::string& what, double value) {
+  const double expected = c["expected"].as_double();
+  double tol = 0.0;
+  char buf[160];
+  if (c.has("abs_tol")) {
+    tol = c["abs_tol"].as_positive();
+    std::snprintf(buf, sizeof buf, "%.10g +- %.3g", expected, tol);
+  } else {
+    tol = c["rel_tol"].as_positive() * std::abs(expected);
+    std::snprintf(buf, sizeof buf, "%.10g +- %.3g (rel %.1e)", expected, tol, c["rel_tol"].as_double());
+  }
+  return Result{what, value, buf, std::isfinite(value) && std::abs(value - expected) <= tol};
+}
+
+Result below(const std::string& what, double value, double max) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "<= %.3g", max);
+  return Result{what, value, buf, std::isfinite(value) && value <= max};
+}
+
+// Evaluates one check on rank 0 (other ranks only take part in the runs it starts).
+Result evaluate(const InputNode& c, const Trajectory& tr, const std::filesystem::path& dir, MPI_Comm comm) {
+  const std::string what = c["what"].as_choice({"axial_force", "displacement", "position", "multiplier", "period",
+                                                 "energy_drift", "max_violation", "variation", "compare_run",
+                                                 "mpi_consistency"});
+  int rank = 0, size = 1;
+  MPI_Comm_rank(comm, &rank);
+  MPI_Comm_size(comm, &size);
+  const Model& m = tr.simulation->model;
+  if (what == "compare_run" || what == "mpi_consistency") {
+    Trajectory other;
+    SimulationOutcome outcome;
+    std::string label;
+    if (what == "compare_run") {
+      c.allow_only({"what", "model", "joint", "until", "max_difference"});
+      const std::string path = (dir / c["model"].as_string()).string();
+      PetscCallAbort(comm, run_and_record(path, comm, &other, &outcome));
+      label = "compare_run " + c["model"].as_string();
+    } else {
+      c.allow_only({"what", "max_difference"});
+      if (size < 2) return Result{what, NAN, "needs mpiexec -n 2 or more", false};
+      // The serial reference: the same model on rank 0 alone, on a communicator split off
+      // collectively (dup'ing MPI_COMM_SELF on one rank while the others wait trips Open MPI 4.1).
+      MPI_Comm solo = MPI_COMM_NULL;
+      MPI_Comm_split(comm, rank == 0 ? 0 : MPI_UNDEFINED, 0, &solo);
+      if (rank == 0) {
+        PetscCallAbort(solo, run_and_record(tr.simulation->source, solo, &other, &outcome));
+        MPI_Comm_free(&solo);
+      }
+      MPI_Barrier(comm);
+      label = "mpi_consistency (" + std::to_string(size) + " ranks vs 1)";
+    }
+    if (rank != 0) return Result{};
+    const double until = c.has("until") ? c["until"].as_double() : 1e300;
+    const int joint = c.has("joint") ? joint_of(m, c["joint"]) : -1;
+    double diff = 0.0;
+    std::size_t compared = 0;
+    for (std::size_t k = 0; k < tr.time.size() && k < other.time.size() && tr.time[k] <= until + 1e-12; ++k) {
+      if (std::abs(tr.time[k] - other.time[k]) > 1e-9) return Result{label, NAN, "same output times", false};
+      for (std::size_t j = 0; j < tr.joints[k].size(); ++j)
+        if (joint < 0 || static_cast<int>(j) == joint) diff = std::max(diff, (tr.joints[k][j] - other.joints[k][j]).norm());
+      ++compared;
+    }
+    if (compared < 2 || !outcome.ok()) return Result{label, NAN, "both runs complete", false};
+    return below(label + " max |dr|", diff, c["max_difference"].as_positive());
+  }
+  if (rank != 0) return Result{};
+  if (what == "energy_drift") {
+    c.allow_only({"what", "max"});
+    return below("energy drift / max kinetic energy", tr.energy_drift(), c["max"].as_positive());
+  }
+  if (what == "max_violation") {
+    c.allow_only({"what", "max"});
+    return below("max constraint violation", *std::max_element(tr.violation.begin(), tr.violation.end()), c["max"].as_positive());
+  }
+  if (what == "axial_force") {
+    c.allow_only({"what", "body", "expected", "abs_tol", "rel_tol"});
+    const auto N = tr.final_state->axial_force(body_element(m, c["body"]));
+    return compare(c, "axial force " + c["body"].as_string(), N ? *N : NAN);
+  }
+  if (what == "multiplier") {
+    c.allow_only({"what", "constraint", "row", "expected", "abs_tol", "rel_tol"});
+    const int con = constraint_of(m, c["constraint"]);
+    const int row = c["row"].as_int();
+    if (row < 0 || row >= m.constraints[con].rows()) c["row"].fail("no such row");
+    return compare(c, "multiplier " + c["constraint"].as_string() + "[" + std::to_string(row) + "]",
+                   tr.final_state->multipliers(con)(row));
+  }
+  const int joint = joint_of(m, c["joint"]);
+  const int comp = component_of(c["component"]);
+  const std::string label = c["joint"].as_string() + "." + "xyz"[comp];
+  if (what == "displacement") {
+    c.allow_only({"what", "joint", "component", "expected", "abs_tol", "rel_tol"});
+    return compare(c, "displacement " + label, tr.joints.back()[joint](comp) - tr.joints0[joint](comp));
+  }
+  if (what == "position") {
+    c.allow_only({"what", "joint", "component", "time", "expected", "abs_tol", "rel_tol"});
+    const double t = c.has("time") ? c["time"].as_double() : tr.time.back();
+    double v = NAN;
+    try {
+      v = tr.at(joint, comp, t);
+    } catch (const std::out_of_range&) {
+      c["time"].fail("no recorded output at this time");
+    }
+    return compare(c, "position " + label + " at t = " + std::to_string(t), v);
+  }
+  if (what == "period") {
+    c.allow_only({"what", "joint", "component", "expected", "abs_tol", "rel_tol"});
+    return compare(c, "period of " + label, tr.period(joint, comp));
+  }
+  c.allow_only({"what", "joint", "component", "max"});
+  double lo = 1e300, hi = -1e300;
+  for (const auto& s : tr.joints) {
+    lo = std::min(lo, s[joint](comp));
+    hi = std::max(hi, s[joint](comp));
+  }
+  return below("variation of " + label, hi - lo, c["max"].as_positive());
+}
+
+int verify(const std::string& case_path, MPI_Comm comm) {
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  const InputNode root = InputNode::load_file(case_path);
+  root.allow_only({"model", "reference", "checks"});
+  const std::filesystem::path dir = std::filesystem::path(case_path).parent_path();
+  const std::string model = (dir / root["model"].as_string()).string();
+  const std::string reference = root["reference"].as_string();
+  Trajectory tr;
+  SimulationOutcome outcome;
+  PetscCallAbort(comm, run_and_record(model, comm, &tr, &outcome));
+  if (rank == 0) std::printf("case %s\nmodel %s\nreference: %s\n", case_path.c_str(), model.c_str(), reference.c_str());
+  bool all = outcome.ok();
+  if (!outcome.ok() && rank == 0)
+    std::printf("FAIL  the run did not complete: %s%s\n", outcome.statics.message.c_str(), outcome.dynamics.message.c_str());
+  for (const InputNode& c : root["checks"].items()) {
+    const Result r = evaluate(c, tr, dir, comm);
+    if (rank != 0) continue;
+    all = all && r.pass;
+    std::printf("%s  %-48s %.10g  (expected %s)\n", r.pass ? "pass" : "FAIL", r.what.c_str(), r.value, r.expectation.c_str());
+  }
+  int ok = all ? 1 : 0;
+  MPI_Bcast(&ok, 1, MPI_INT, 0, comm);
+  if (rank == 0) std::printf("%s\n", ok ? "all checks pass" : "SOME CHECKS FAILED");
+  return ok ? 0 : 1;
+}
+
+}  // namespace
+}  // namespace latticedyn
+
+int main(int argc, char** argv) {
+  if (argc < 2) {
+    std::fprintf(stderr, "usage: latticedyn_verify CASE.check.yaml [PETSc options]\n");
+    return 2;
+  }
+  const std::string case_path = argv[1];
+  if (PetscInitialize(&argc, &argv, nullptr, nullptr) != 0) return 3;
+  int code = 0;
+  try {
+    code = latticedyn::verify(case_path, PETSC_COMM_WORLD);
+  } catch (const latticedyn::InputError& e) {
+    std::fprintf(stderr, "latticedyn_verify: error: %s\n", e.what());
+    code = 2;
+  }
+  PetscFinalize();
+  return code;
+}

@@ -1,0 +1,114 @@
+// Recording a verification run and the measures taken from its trajectory.
+#include "verification/trajectory.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace latticedyn {
+
+double Trajectory::at(int joint, int component, double t) const {
+  if (time.empty() || t < time.front() - 1e-12 || t > time.back() + 1e-12)
+    throw std::out_of_range("time outside the recorded range");
+  const auto it = std::lower_bound(time.begin(), time.end(), t - 1e-12);
+  const std::size_t k = static_cast<std::size_t>(it - time.begin());
+  if (k == 0 || std::abs(time[k] - t) < 1e-12) return joints[k][joint](component);
+  const double w = (t - time[k - 1]) / (time[k] - time[k - 1]);
+  return (1 - w) * joints[k - 1][joint](component) + w * joints[k][joint](component);
+}
+
+double Trajectory::period(int joint, int component) const {
+  double lo = 1e300, hi = -1e300;
+  for (const auto& s : joints) {
+    lo = std::min(lo, s[joint](component));
+    hi = std::max(hi, s[joint](component));
+  }
+  const double mid = 0.5 * (lo + hi);
+  std::vector<double> crossings;
+  for (std::size_t i = 1; i < time.size(); ++i) {
+    const double a = joints[i - 1][joint](component) - mid, b = joints[i][joint](component) - mid;
+    if (a < 0 && b >= 0) crossings.push_back(time[i - 1] + (time[i] - time[i - 1]) * (-a) / (b - a));
+  }
+  if (crossings.size() < 2) return 0.0;
+  return (crossings.back() - crossings.front()) / static_cast<double>(crossings.size() - 1);
+}
+
+double Trajectory::energy_drift() const {
+  if (energy.empty()) return 0.0;
+  double drift = 0.0, kmax = 0.0;
+  for (std::size_t i = 0; i < energy.size(); ++i) {
+    drift = std::max(drift, std::abs(energy[i] - energy.front()));
+    kmax = std::max(kmax, kinetic[i]);
+  }
+  return kmax > 0 ? drift / kmax : drift;
+}
+
+TrajectoryRecorder::TrajectoryRecorder(SystemAssembler& sa, double interval, Trajectory* out)
+    : sa_(sa), state_(sa.model(), sa.dofs()), interval_(interval), out_(out) {}
+
+PetscErrorCode TrajectoryRecorder::record(double t, Vec U, Vec V, Parametrization param) {
+  PetscFunctionBeginUser;
+  PetscCall(sa_.gather(t, U, V, nullptr, param, &state_));
+  last_recorded_ = t;
+  if (sa_.dofs().rank() == 0) {
+    std::vector<Vec3> joints;
+    for (std::size_t j = 0; j < sa_.model().joints.size(); ++j) joints.push_back(state_.joint_position(static_cast<int>(j)));
+    const ElementEnergy e = state_.energy();
+    out_->time.push_back(t);
+    out_->joints.push_back(std::move(joints));
+    out_->energy.push_back(e.kinetic + e.gravity_potential + e.strain);
+    out_->kinetic.push_back(e.kinetic);
+    out_->violation.push_back(state_.max_constraint_violation().first);
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode TrajectoryRecorder::on_step(const StepInfo& info) {
+  PetscFunctionBeginUser;
+  const double eps = 1e-9 * std::max(1.0, std::abs(info.time));
+  if (info.step == 0 || info.time >= next_ - eps) {
+    PetscCall(record(info.time, info.U, info.V, info.param));
+    if (interval_ > 0) next_ = (std::floor((info.time + eps) / interval_) + 1) * interval_;
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode TrajectoryRecorder::finish(double t, Vec U, Vec V) {
+  PetscFunctionBeginUser;
+  if (last_recorded_ != t) PetscCall(record(t, U, V, Parametrization::rotation_vector_rates));
+  PetscCall(sa_.gather(t, U, V, nullptr, Parametrization::rotation_vector_rates, &state_));
+  if (sa_.dofs().rank() == 0) {
+    out_->final_state = std::make_unique<ModelState>(sa_.model(), *out_->dofs);
+    out_->final_state->set(t, state_.coordinates(), {}, {}, Parametrization::rotation_vector_rates);
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode run_and_record(const std::string& model_path, MPI_Comm comm, Trajectory* trajectory,
+                              SimulationOutcome* outcome) {
+  PetscFunctionBeginUser;
+  trajectory->simulation = std::make_unique<Simulation>(read_simulation(model_path));
+  Simulation& sim = *trajectory->simulation;
+  SystemAssembler sa(sim.model, comm);
+  trajectory->dofs = std::make_unique<DofMap>(sa.dofs());
+  Vec U, V;
+  PetscCall(sa.create_vector(&U));
+  PetscCall(sa.create_vector(&V));
+  PetscCall(sa.initial_state(U, V));
+  {
+    ModelState s0(sim.model, sa.dofs());
+    PetscCall(sa.gather(0.0, U, V, nullptr, Parametrization::rotation_vector_rates, &s0));
+    if (sa.dofs().rank() == 0)
+      for (std::size_t j = 0; j < sim.model.joints.size(); ++j) trajectory->joints0.push_back(s0.joint_position(static_cast<int>(j)));
+  }
+  TrajectoryRecorder recorder(sa, sim.output.interval, trajectory);
+  const bool statics = sim.run_static || !sim.run_dynamics;
+  PetscCall(simulate(sim, sa, U, V, statics, sim.run_dynamics, &recorder, outcome));
+  const double t = outcome->dynamics_run ? outcome->dynamics.time_reached : sim.statics.time;
+  PetscCall(recorder.finish(t, U, V));
+  PetscCall(VecDestroy(&U));
+  PetscCall(VecDestroy(&V));
+  PetscFunctionReturn(0);
+}
+
+}  // namespace latticedyn

@@ -1,0 +1,52 @@
+// What a verification run keeps: joint positions, energy and constraint violation at the model's
+// output times (on rank 0), and the final state; plus the measures taken from them.
+#pragma once
+
+#include "drivers/simulation.hpp"
+
+#include <memory>
+#include <vector>
+
+namespace latticedyn {
+
+struct Trajectory {
+  std::unique_ptr<Simulation> simulation;  ///< the model run (the final state refers to it)
+  std::unique_ptr<DofMap> dofs;
+  std::vector<double> time;
+  std::vector<std::vector<Vec3>> joints;  ///< [step][joint] positions
+  std::vector<Vec3> joints0;              ///< joint positions of the initial model state
+  std::vector<double> energy, kinetic;    ///< total (kinetic + gravity + strain) and kinetic
+  std::vector<double> violation;          ///< max |g| over all constraints
+  std::unique_ptr<ModelState> final_state;
+
+  /// Linear interpolation of a joint coordinate at time t (must lie in the recorded range).
+  double at(int joint, int component, double t) const;
+  /// Mean period of a joint coordinate from its upward crossings of the mid value.
+  double period(int joint, int component) const;
+  /// max |E - E0| / max kinetic energy.
+  double energy_drift() const;
+};
+
+/// Records at the output interval of the model (every step for 0), like the results writer.
+class TrajectoryRecorder final : public StepObserver {
+ public:
+  TrajectoryRecorder(SystemAssembler& sa, double interval, Trajectory* out);
+  PetscErrorCode on_step(const StepInfo& info) override;
+  /// Records (t, U, V) as the final state (and as a step if nothing was recorded: statics).
+  PetscErrorCode finish(double t, Vec U, Vec V);
+
+ private:
+  PetscErrorCode record(double t, Vec U, Vec V, Parametrization param);
+  SystemAssembler& sa_;
+  ModelState state_;
+  double interval_, next_ = 0.0;
+  double last_recorded_ = -1e300;  // on every rank: recording is collective
+  Trajectory* out_;
+};
+
+/// Runs a model file on `comm` and records its trajectory (valid on rank 0 of comm).
+/// Throws InputError for a bad model; a solver failure is returned in `outcome`.
+PetscErrorCode run_and_record(const std::string& model_path, MPI_Comm comm, Trajectory* trajectory,
+                              SimulationOutcome* outcome);
+
+}  // namespace latticedyn
