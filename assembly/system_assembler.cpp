@@ -10,6 +10,7 @@
 #include <petscvec.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace latticedyn {
@@ -334,16 +335,20 @@ PetscErrorCode SystemAssembler::jacobian(const EvaluationPoint& at, const Evalua
   std::vector<PetscInt> idx;
   RowMajor Je;
 
-  // Adds rows_I (cq K col_K_J + C col_C_J + M col_M_J) for every pair of slots.
-  auto chain_block = [&](int bi, int bj, const auto& K, const auto& C, const auto& M) {
-    const int ni = model_.blocks[bi].size(), nj = model_.blocks[bj].size();
+  // rows_I (cq K col_K_J + C col_C_J + M col_M_J) on 3x3 blocks (a scalar block uses the top-left
+  // entry, the rest stays zero): fixed sizes, no allocation in the element loop.
+  auto chain_block = [&](int bi, int bj, const Mat3& K, const Mat3& C, const Mat3& M) -> Mat3 {
     const BlockChain& ci = chain_[bi];
     const BlockChain& cj = chain_[bj];
-    return (ci.rows.topLeftCorner(ni, ni) *
-            (cq * K * cj.col_K.topLeftCorner(nj, nj) + C * cj.col_C.topLeftCorner(nj, nj) + M * cj.col_M.topLeftCorner(nj, nj)))
-        .eval();
+    return ci.rows * (cq * K * cj.col_K + C * cj.col_C + M * cj.col_M);
+  };
+  auto padded = [](const auto& block) {
+    Mat3 m = Mat3::Zero();
+    m.topLeftCorner(block.rows(), block.cols()) = block;
+    return m;
   };
 
+  std::array<int, 16> offs{};
   for (int e : dofs_.local_elements()) {
     const ElementEntry& entry = model_.elements[e];
     const auto kinds = entry.element->slots();
@@ -353,10 +358,9 @@ PetscErrorCode SystemAssembler::jacobian(const EvaluationPoint& at, const Evalua
     const int n = entry.element->num_dofs();
     Je.setZero(n, n);
     idx.assign(n, -1);
-    std::vector<int> offs;
     int o = 0;
     for (std::size_t k = 0; k < kinds.size(); ++k) {
-      offs.push_back(o);
+      offs[k] = o;
       const int b = entry.slots[k].block;
       if (!model_.blocks[b].fixed)
         for (int i = 0; i < slot_size(kinds[k]); ++i) idx[o + i] = dofs_.block_dof(b) + i;
@@ -371,9 +375,10 @@ PetscErrorCode SystemAssembler::jacobian(const EvaluationPoint& at, const Evalua
         const int bj = entry.slots[kj].block;
         if (model_.blocks[bj].fixed) continue;
         const int nj = slot_size(kinds[kj]);
-        Je.block(offs[ki], offs[kj], ni, nj) =
-            chain_block(bi, bj, t.K.block(offs[ki], offs[kj], ni, nj), t.C.block(offs[ki], offs[kj], ni, nj),
-                        t.M.block(offs[ki], offs[kj], ni, nj));
+        const Mat3 blk = chain_block(bi, bj, padded(t.K.block(offs[ki], offs[kj], ni, nj)),
+                                     padded(t.C.block(offs[ki], offs[kj], ni, nj)),
+                                     padded(t.M.block(offs[ki], offs[kj], ni, nj)));
+        Je.block(offs[ki], offs[kj], ni, nj) = blk.topLeftCorner(ni, nj);
       }
     }
     PetscCall(MatSetValues(J, n, idx.data(), n, idx.data(), Je.data(), ADD_VALUES));
@@ -392,7 +397,7 @@ PetscErrorCode SystemAssembler::jacobian(const EvaluationPoint& at, const Evalua
         if (le.blocks[ki] < 0 || le.blocks[kj] < 0) continue;
         const Eigen::Matrix3d K = -le.K.block<3, 3>(3 * ki, 3 * kj);
         if (K.isZero(0.0)) continue;
-        RowMajor blk = chain_block(le.blocks[ki], le.blocks[kj], K, zero3, zero3);
+        const Eigen::Matrix<double, 3, 3, Eigen::RowMajor> blk = chain_block(le.blocks[ki], le.blocks[kj], K, zero3, zero3);
         PetscInt ri = dofs_.block_dof(le.blocks[ki]), cj = dofs_.block_dof(le.blocks[kj]);
         PetscInt rows[3] = {ri, ri + 1, ri + 2}, cols[3] = {cj, cj + 1, cj + 2};
         PetscCall(MatSetValues(J, 3, rows, 3, cols, blk.data(), ADD_VALUES));
@@ -422,7 +427,7 @@ PetscErrorCode SystemAssembler::jacobian(const EvaluationPoint& at, const Evalua
       // Geometric stiffness d(G^T lambda)/dq.
       for (int kj = 0; kj < nblk; ++kj) {
         const int bj = ce.blocks[kj];
-        RowMajor blk = chain_block(bi, bj, ce.H.block<3, 3>(3 * ki, 3 * kj), zero3, zero3);
+        const Eigen::Matrix<double, 3, 3, Eigen::RowMajor> blk = chain_block(bi, bj, ce.H.block<3, 3>(3 * ki, 3 * kj), zero3, zero3);
         PetscInt cj = dofs_.block_dof(bj);
         PetscInt cols[3] = {cj, cj + 1, cj + 2};
         PetscCall(MatSetValues(J, 3, rows, 3, cols, blk.data(), ADD_VALUES));

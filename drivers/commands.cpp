@@ -19,12 +19,14 @@ bool is_root(MPI_Comm comm) {
   return rank == 0;
 }
 
-void print_root(MPI_Comm comm, const std::string& text) {
+void print_root(MPI_Comm comm, const std::string& text, FILE* stream = stdout) {
   if (is_root(comm)) {
-    std::fputs(text.c_str(), stdout);
-    std::fflush(stdout);
+    std::fputs(text.c_str(), stream);
+    std::fflush(stream);
   }
 }
+
+void error_root(MPI_Comm comm, const std::string& text) { print_root(comm, "latticedyn: error: " + text + "\n", stderr); }
 
 std::string describe_model(const Model& m) {
   std::map<std::string, int> types;
@@ -76,7 +78,7 @@ int command_solve(Simulation& sim, const CommandOptions& opt, MPI_Comm comm, boo
   std::string error;
   auto writer = open_writer(sim, opt, comm, &error);
   if (!error.empty()) {
-    print_root(comm, "latticedyn: error: " + error + "\n");
+    error_root(comm, error);
     return kInputError;
   }
   SystemAssembler sa(sim.model, comm);
@@ -101,7 +103,12 @@ int command_solve(Simulation& sim, const CommandOptions& opt, MPI_Comm comm, boo
   PetscCallAbort(comm, out.finish(t_last, U, V, Parametrization::rotation_vector_rates));
 
   std::string text;
-  if (outcome.static_run) text += (outcome.statics.converged ? "" : "latticedyn: error: ") + outcome.statics.message + "\n";
+  if (outcome.static_run) {
+    if (outcome.statics.converged)
+      text += outcome.statics.message + "\n";
+    else
+      error_root(comm, outcome.statics.message);
+  }
   if (outcome.dynamics_run) {
     const DynamicReport& r = outcome.dynamics;
     char buf[1024];
@@ -113,7 +120,7 @@ int command_solve(Simulation& sim, const CommandOptions& opt, MPI_Comm comm, boo
                   r.steps ? static_cast<double>(r.newton_iterations) / r.steps : 0.0, r.rotation_rescales, r.wall_seconds,
                   r.wall_seconds > 0 ? simulated / r.wall_seconds : 0.0, out.written(),
                   describe_violation(sim.model, r.max_violation, r.violation_constraint).c_str());
-    if (!r.completed) text += "latticedyn: error: " + r.message + "\n";
+    if (!r.completed) error_root(comm, r.message);
     text += buf;
   }
   print_root(comm, text + where_results(writer.get()));
@@ -156,9 +163,8 @@ int command_static(Simulation& sim, const CommandOptions& opt, MPI_Comm comm) {
 
 int command_run(Simulation& sim, const CommandOptions& opt, MPI_Comm comm) {
   if (!sim.run_dynamics) {
-    print_root(comm, "latticedyn: error: " + sim.source +
-                         ": the model has no solver.dynamics section; add one (t_end, time_step) or use "
-                         "'latticedyn static'\n");
+    error_root(comm, sim.source + ": the model has no solver.dynamics section; add one (t_end, time_step) or use "
+                                  "'latticedyn static'");
     return kInputError;
   }
   return command_solve(sim, opt, comm, sim.run_static, true);

@@ -100,9 +100,10 @@ PetscErrorCode StaticSolver::solve(Vec U, StaticReport* report) {
                   describe_violation(sa_.model(), r.max_violation, r.violation_constraint).c_str());
   } else {
     const char* why = SNESConvergedReasons[reason];
-    const char* hint = reason == SNES_DIVERGED_LINEAR_SOLVE
-                           ? " (the linear system is singular: a free body without mass or stiffness, or a mechanism "
-                             "with an unconstrained motion?)"
+    const bool direction_failed = reason == SNES_DIVERGED_LINEAR_SOLVE || reason == SNES_DIVERGED_LINE_SEARCH;
+    const char* hint = direction_failed
+                           ? " (no usable Newton direction: is the tangent singular? A body free to move without "
+                             "stiffness, e.g. unsupported, has no equilibrium; -ksp_converged_reason shows zero pivots)"
                            : "";
     std::snprintf(buf, sizeof buf,
                   "static equilibrium failed at load factor %.4g (last equilibrium at %.4g): SNES %s%s, Newton residual "

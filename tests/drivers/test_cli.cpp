@@ -1,0 +1,190 @@
+// The latticedyn command as a user meets it: exit codes, one-line input errors with file:line and
+// key and no output written, results written and readable, solver failures reported with where
+// they happened and the results up to then kept, and no hang on several MPI ranks.
+#include <gtest/gtest.h>
+#include <hdf5.h>
+
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Outcome {
+  int code = -1;
+  std::string out, err;
+};
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+class Cli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("latticedyn_cli_" + std::to_string(::getpid()) + "_" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  fs::path write(const std::string& name, const std::string& text) {
+    std::ofstream(dir_ / name) << text;
+    return dir_ / name;
+  }
+  Outcome run(const std::string& args, const std::string& launcher = "") {
+    const std::string cmd = "cd " + dir_.string() + " && timeout 120 " + launcher + " " + LATTICEDYN_EXE + " " + args +
+                            " > out.txt 2> err.txt";
+    const int status = std::system(cmd.c_str());
+    Outcome o;
+    o.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    o.out = slurp(dir_ / "out.txt");
+    o.err = slurp(dir_ / "err.txt");
+    return o;
+  }
+  fs::path dir_;
+};
+
+const char* kPendulum = R"(title: pendulum
+gravity: [0, 0, -9.81]
+ground:
+  joints:
+    - {name: pivot, position: [0, 0, 0]}
+bodies:
+  - name: rod
+    type: rigid_body
+    mass: 2.0
+    centroid: [0, 0, -0.5]
+    inertia: [0.17, 0.17, 0.001]
+    rotation_deg: [0, 20, 0]
+    joints:
+      - {name: pivot, position: [0, 0, 0]}
+      - {name: tip, position: [0, 0, -1]}
+constraints:
+  - {name: hinge, type: revolute, axis: y, joints: [ground.pivot, rod.pivot]}
+solver:
+  dynamics: {t_end: 0.2, time_step: 0.01}
+output:
+  interval: 0.05
+  probes: [rod.tip]
+)";
+
+std::string replaced(std::string text, const std::string& from, const std::string& to) {
+  const auto at = text.find(from);
+  if (at == std::string::npos) ADD_FAILURE() << "anchor '" << from << "' missing";
+  else text.replace(at, from.size(), to);
+  return text;
+}
+
+TEST_F(Cli, RunWritesReadableResults) {
+  write("pendulum.yaml", kPendulum);
+  const Outcome o = run("run pendulum.yaml --output out");
+  ASSERT_EQ(o.code, 0) << o.out << o.err;
+  EXPECT_NE(o.out.find("dynamics completed"), std::string::npos) << o.out;
+  for (const char* f : {"out/pendulum.h5", "out/pendulum.xdmf", "out/pendulum_probes.csv"})
+    EXPECT_TRUE(fs::exists(dir_ / f)) << f;
+  // 0, 0.05, ..., 0.2: five outputs, plus the CSV header.
+  const std::string csv = slurp(dir_ / "out/pendulum_probes.csv");
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 6) << csv;
+}
+
+TEST_F(Cli, CheckDescribesAValidModel) {
+  write("pendulum.yaml", kPendulum);
+  const Outcome o = run("check pendulum.yaml");
+  EXPECT_EQ(o.code, 0) << o.err;
+  EXPECT_NE(o.out.find("the model is valid"), std::string::npos) << o.out;
+  EXPECT_FALSE(fs::exists(dir_ / "results")) << "check writes nothing";
+}
+
+struct Bad {
+  const char* from;
+  const char* to;
+  const char* where;  // "file:line:" prefix expected on stderr
+  const char* key;
+};
+
+TEST_F(Cli, BadInputGivesFileLineKeyExitCodeTwoAndNoOutput) {
+  const Bad cases[] = {
+      {"  - name: rod\n", "  - name: [rod\n", "bad.yaml:8:", "YAML syntax error"},          // syntax
+      {"    mass: 2.0\n", "    mass: 2.0\n    mas: 1\n", "bad.yaml:10:", "bodies[0].mas"},  // unknown key
+      {"    mass: 2.0\n", "", "bad.yaml:7:", "bodies[0]: missing required key 'mass'"},      // missing field
+      {"    mass: 2.0\n", "    mass: -2.0\n", "bad.yaml:9:", "bodies[0].mass"},            // meaningless value
+      {"time_step: 0.01", "time_step: -0.01", "bad.yaml:19:", "solver.dynamics.time_step"},  // non-positive step
+      {"rod.pivot]", "rod.knee]", "bad.yaml:17:", "constraints[0].joints[1]"},              // dangling reference
+  };
+  for (const Bad& b : cases) {
+    write("bad.yaml", replaced(kPendulum, b.from, b.to));
+    for (const char* cmd : {"check", "run"}) {
+      const Outcome o = run(std::string(cmd) + " bad.yaml --output out");
+      EXPECT_EQ(o.code, 2) << cmd << " " << b.key << ": " << o.err;
+      EXPECT_EQ(o.err.rfind(std::string("latticedyn: error: ") + b.where, 0), 0u) << o.err;
+      EXPECT_NE(o.err.find(b.key), std::string::npos) << o.err;
+      EXPECT_EQ(std::count(o.err.begin(), o.err.end(), '\n'), 1) << "one line: " << o.err;
+      EXPECT_FALSE(fs::exists(dir_ / "out")) << "no output for bad input";
+    }
+  }
+}
+
+TEST_F(Cli, UsageErrorsExitWithTwo) {
+  EXPECT_EQ(run("").code, 2);
+  EXPECT_EQ(run("fly model.yaml").code, 2);
+  EXPECT_EQ(run("run").code, 2);
+  const Outcome missing = run("run nowhere.yaml");
+  EXPECT_EQ(missing.code, 2);
+  EXPECT_NE(missing.err.find("nowhere.yaml"), std::string::npos) << missing.err;
+}
+
+TEST_F(Cli, DynamicFailureSaysWhereAndKeepsResults) {
+  write("pendulum.yaml", kPendulum);
+  // One Newton iteration per step cannot converge: the run must stop and say so.
+  const Outcome o = run("run pendulum.yaml --output out -snes_max_it 1");
+  EXPECT_EQ(o.code, 1) << o.out << o.err;
+  EXPECT_NE(o.err.find("latticedyn: error: dynamics stopped at t = "), std::string::npos) << o.err;
+  EXPECT_NE(o.err.find("Newton"), std::string::npos) << o.err;
+  EXPECT_NE(o.err.find("largest violation"), std::string::npos) << o.err;
+  EXPECT_NE(o.out.find("results: "), std::string::npos) << o.out;
+  // The results written so far (the initial state) are readable.
+  const hid_t f = H5Fopen((dir_ / "out/pendulum.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  ASSERT_GE(f, 0);
+  const hid_t d = H5Dopen2(f, "/time", H5P_DEFAULT);
+  ASSERT_GE(d, 0);
+  const hid_t s = H5Dget_space(d);
+  hsize_t n = 0;
+  H5Sget_simple_extent_dims(s, &n, nullptr);
+  EXPECT_GE(n, 1u);
+  H5Sclose(s);
+  H5Dclose(d);
+  H5Fclose(f);
+}
+
+TEST_F(Cli, StaticFailureOfAnUnsupportedBodyIsReported) {
+  // A free body under gravity has no equilibrium: the static solver must say so, not crash.
+  write("free.yaml", replaced(kPendulum, "constraints:\n  - {name: hinge, type: revolute, axis: y, joints: [ground.pivot, rod.pivot]}\n", ""));
+  const Outcome o = run("static free.yaml --output out");
+  EXPECT_EQ(o.code, 1) << o.out << o.err;
+  EXPECT_NE(o.err.find("latticedyn: error: static equilibrium failed"), std::string::npos) << o.err;
+  EXPECT_NE(o.err.find("singular"), std::string::npos) << o.err;
+}
+
+TEST_F(Cli, InputErrorOnTwoRanksEndsBothWithoutHanging) {
+  write("bad.yaml", replaced(kPendulum, "    mass: 2.0\n", "    mass: -2.0\n"));
+  // Open MPI refuses root without these (CI runs as root); 2 ranks on any machine.
+  const std::string mpiexec = std::string("env OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 ") + MPIEXEC +
+                              " --oversubscribe -n 2";
+  const Outcome o = run("run bad.yaml --output out", mpiexec);
+  EXPECT_EQ(o.code, 2) << o.out << o.err;
+  EXPECT_NE(o.err.find("bad.yaml:9:"), std::string::npos) << o.err;
+  EXPECT_FALSE(fs::exists(dir_ / "out"));
+}
+
+}  // namespace

@@ -1,0 +1,157 @@
+// The model format: a valid model reads into the expected model, and every class of bad input
+// (syntax, unknown key, missing field, meaningless value, dangling reference) is rejected with
+// the file, line and key of the offending entry.
+#include "io/model_reader.hpp"
+
+#include "io/input_node.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <string>
+
+namespace latticedyn {
+namespace {
+
+const char* kValid = R"(title: two links
+gravity: {direction: [0, 0, -1], magnitude: 9.8}
+materials:
+  steel: {density: 7800, youngs_modulus: 2.06e11, poisson_ratio: 0.3}
+sections:
+  rod: {type: round_tube, outer_radius: 0.02, inner_radius: 0.01}
+drives:
+  swing: {type: cosine_step, t_start: 0, t_end: 1, y_start: 0, y_end: 0.5}
+ground:
+  joints:
+    - {name: o, position: [0, 0, 0]}
+bodies:
+  - name: arm
+    type: rigid_body
+    mass: 3
+    centroid: [0.5, 0, 0]
+    inertia: [0.01, 0.1, 0.1]
+    joints:
+      - {name: base, position: [0, 0, 0]}
+      - {name: tip, position: [1, 0, 0]}
+  - name: tie
+    type: strut_tie
+    material: steel
+    section: rod
+    ends: [[1, 0, 0], [1, 0, -1]]
+  - {name: tie2, type: strut_tie, material: steel, section: rod, ends: [[1, 0, -1], [1, 0, -2]]}
+constraints:
+  - {name: hinge, type: revolute, axis: z, joints: [ground.o, arm.base], drive: swing}
+  - {name: hook, type: spherical, joints: [arm.tip, tie.1]}
+  - {name: link, type: spherical, joints: [tie.2, tie2.1], shared: true}
+loads:
+  - {joint: tie2.2, force: [0, 0, -100]}
+solver:
+  static: {load_steps: 2}
+  dynamics: {t_end: 2, time_step: 0.01, rho_infinity: 0.8}
+output:
+  interval: 0.1
+  probes: [tie.2]
+)";
+
+TEST(ModelReader, ReadsAValidModel) {
+  const Simulation sim = read_simulation_from_string(kValid, "valid.yaml");
+  const Model& m = sim.model;
+  EXPECT_EQ(m.title, "two links");
+  EXPECT_NEAR(m.gravity.z(), -9.8, 1e-15);
+  EXPECT_EQ(m.bodies.size(), 4u);  // ground, arm, tie, tie2
+  EXPECT_EQ(m.constraints.size(), 2u);  // the shared spherical costs no multipliers
+  EXPECT_EQ(m.constraints[0].rows(), 6);  // driven revolute
+  EXPECT_EQ(m.num_free_dofs(), 6 + 3 + 3 + 3);  // arm, tie's ends (one shared with tie2), tie2's end
+  EXPECT_TRUE(sim.run_static);
+  EXPECT_TRUE(sim.run_dynamics);
+  EXPECT_EQ(sim.statics.load_steps, 2);
+  EXPECT_DOUBLE_EQ(sim.dynamics.rho_infinity, 0.8);
+  EXPECT_EQ(sim.output.directory, "results/valid");
+  ASSERT_EQ(sim.output.probe_joints.size(), 1u);
+  EXPECT_EQ(m.joints[sim.output.probe_joints[0]].name, "tie.2");
+}
+
+struct BadInput {
+  const char* name;
+  std::string replace;  // text of kValid to replace
+  std::string with;
+  int line;             // line of the error, counted from the line where `replace` starts
+  std::string key;      // expected key path
+  std::string says;     // part of the message
+};
+
+std::string edited(const BadInput& b) {
+  std::string text = kValid;
+  const auto at = text.find(b.replace);
+  EXPECT_NE(at, std::string::npos) << b.name << ": the test's anchor text is missing";
+  text.replace(at, b.replace.size(), b.with);
+  return text;
+}
+
+class RejectsBadInput : public ::testing::TestWithParam<BadInput> {};
+
+TEST_P(RejectsBadInput, WithFileLineAndKey) {
+  const BadInput& b = GetParam();
+  const std::string text = kValid;
+  const int anchor = 1 + static_cast<int>(std::count(text.begin(), text.begin() + static_cast<long>(text.find(b.replace)), '\n'));
+  const int line = anchor + b.line;
+  try {
+    read_simulation_from_string(edited(b), "model.yaml");
+    FAIL() << b.name << ": accepted";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_EQ(e.file(), "model.yaml");
+    EXPECT_EQ(e.line(), line) << what;
+    EXPECT_EQ(e.key(), b.key) << what;
+    EXPECT_NE(what.find(b.says), std::string::npos) << what;
+    EXPECT_EQ(what.find('\n'), std::string::npos) << "one line: " << what;
+    EXPECT_EQ(what.rfind("model.yaml:" + std::to_string(line) + ":", 0), 0u) << what;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Classes, RejectsBadInput,
+    ::testing::Values(
+        BadInput{"syntax_error", "  - name: tie\n", "  - name: [tie\n", 1, "", "YAML syntax error"},
+        BadInput{"unknown_key", "    mass: 3\n", "    mass: 3\n    colour: red\n", 1, "bodies[0].colour", "unknown key 'colour'"},
+        BadInput{"unknown_top_level_key", "title: two links\n", "title: two links\ngravty: [0, 0, -9.81]\n", 1, "gravty",
+                 "unknown key"},
+        BadInput{"missing_field", "    mass: 3\n", "", -2, "bodies[0]", "missing required key 'mass'"},
+        BadInput{"negative_mass", "    mass: 3\n", "    mass: -3\n", 0, "bodies[0].mass", "positive"},
+        BadInput{"negative_length", "    ends: [[1, 0, 0], [1, 0, -1]]\n",
+                 "    ends: [[1, 0, 0], [1, 0, -1]]\n    rest_length: -2\n", 1, "bodies[1].rest_length", "positive"},
+        BadInput{"zero_length_axis", "    - {name: o, position: [0, 0, 0]}\n",
+                 "    - {name: o, position: [0, 0, 0], axis_angle: {axis: [0, 0, 0], angle_deg: 30}}\n", 0,
+                 "ground.joints[0].axis_angle.axis", "zero length"},
+        BadInput{"zero_length_strut", "    ends: [[1, 0, 0], [1, 0, -1]]\n", "    ends: [[1, 0, 0], [1, 0, 0]]\n", 0,
+                 "bodies[1].ends", "coincide"},
+        BadInput{"zero_gravity_direction", "direction: [0, 0, -1]", "direction: [0, 0, 0]", 0, "gravity.direction",
+                 "zero length"},
+        BadInput{"non_positive_time_step", "time_step: 0.01", "time_step: 0", 0, "solver.dynamics.time_step",
+                 "positive"},
+        BadInput{"end_before_start", "t_end: 2,", "t_start: 3, t_end: 2,", 0, "solver.dynamics.t_end",
+                 "later than t_start"},
+        BadInput{"rho_out_of_range", "rho_infinity: 0.8", "rho_infinity: 1.5", 0, "solver.dynamics.rho_infinity",
+                 "[0, 1]"},
+        BadInput{"not_a_number", "    mass: 3\n", "    mass: three\n", 0, "bodies[0].mass", "expected a finite number"},
+        BadInput{"unknown_body", "joints: [arm.tip, tie.1]", "joints: [arm.tip, rope.1]", 0, "constraints[1].joints[1]",
+                 "no body named 'rope'"},
+        BadInput{"unknown_joint", "joints: [ground.o, arm.base]", "joints: [ground.o, arm.elbow]", 0,
+                 "constraints[0].joints[1]", "has no joint 'elbow'"},
+        BadInput{"unknown_drive", "drive: swing}", "drive: spin}", 0, "constraints[0].drive", "no drive named 'spin'"},
+        BadInput{"unknown_material", "    material: steel\n", "    material: oak\n", 0, "bodies[1].material",
+                 "no material named 'oak'"},
+        BadInput{"unknown_probe", "probes: [tie.2]", "probes: [tie2.3]", 0, "output.probes[0]", "has no joint '3'"},
+        BadInput{"unknown_type", "type: strut_tie", "type: strut", 0, "bodies[1].type", "not one of"},
+        BadInput{"shared_joints_apart", "ends: [[1, 0, -1], [1, 0, -2]]", "ends: [[1, 0, -1.5], [1, 0, -2]]", 4,
+                 "constraints[2]", "apart"},
+        BadInput{"axis_on_spherical", "type: spherical,", "type: spherical, axis: x,", 0, "constraints[1].axis",
+                 "only revolute and prismatic"}),
+    [](const ::testing::TestParamInfo<BadInput>& info) { return std::string(info.param.name); });
+
+TEST(ModelReader, MissingFileIsAnInputError) {
+  EXPECT_THROW(read_simulation("/nonexistent/model.yaml"), InputError);
+}
+
+}  // namespace
+}  // namespace latticedyn
