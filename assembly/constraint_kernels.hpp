@@ -21,7 +21,7 @@ struct JointPairFrames {
 ///  revolute   r1 - r2 = 0, e_p1.e_a2 = e_q1.e_a2 = 0 about axis a  (4-16, 4-17)
 ///             driven: sin(theta - u) = e_q1.e_p2 cos u - e_p1.e_p2 sin u = 0, theta the angle of
 ///             joint 2 relative to joint 1 about a, (a, p, q) cyclic
-///  prismatic  (r2 - r1).e_p1 = (r2 - r1).e_q1 = 0, frames aligned    (4-20, 4-21)
+///  prismatic  (r1 - r2).e_p1 = (r1 - r2).e_q1 = 0, frames aligned    (4-20, 4-21)
 ///             driven: (r2 - r1).e_a1 - u = 0
 template <class S>
 void constraint_values(const Constraint& c, const JointPairFrames<S>& f, const S& u, S* g) {
@@ -51,8 +51,8 @@ void constraint_values(const Constraint& c, const JointPairFrames<S>& f, const S
       if (c.drive >= 0) g[5] = e1(q).dot(e2(p)) * cos(u) - e1(p).dot(e2(p)) * sin(u);
       break;
     case ConstraintType::prismatic:
-      g[0] = d.dot(e1(p));
-      g[1] = d.dot(e1(q));
+      g[0] = -d.dot(e1(p));  // (r1 - r2).e: same sign convention as the other position rows
+      g[1] = -d.dot(e1(q));
       aligned_frames(g + 2);
       if (c.drive >= 0) g[5] = d.dot(e1(a)) - u;
       break;

@@ -134,6 +134,13 @@ void ModelBuilder::merge_translation(int a, int b, const std::string& what) {
     throw ModelError(what + ": the joints are " + std::to_string((pa - pb).norm()) +
                      " m apart in the initial state, at " + fmt(pa) + " and " + fmt(pb) +
                      "; a shared connection needs coincident joints");
+  // One node moves with one velocity: the merged blocks must start with the same one (a fixed
+  // block has none).
+  const Vec3 va = model_.blocks[ra].fixed ? Vec3::Zero() : model_.blocks[ra].velocity0;
+  const Vec3 vb = model_.blocks[rb].fixed ? Vec3::Zero() : model_.blocks[rb].velocity0;
+  if ((va - vb).norm() > kPositionTolerance * (1 + va.norm()))
+    throw ModelError(what + ": the joints start with different velocities " + fmt(va) + " and " + fmt(vb) +
+                     "; a shared node has one velocity");
   if (model_.blocks[rb].fixed && !model_.blocks[ra].fixed)
     parent_[ra] = {rb, Mat3::Identity()};
   else
@@ -151,6 +158,14 @@ void ModelBuilder::merge_rotation(int a, int b, const Mat3& R_ab, const std::str
     throw ModelError(what + ": the joint frames differ by " + std::to_string(mismatch * 180 / 3.141592653589793) +
                      " degrees in the initial state; a shared fixed connection needs aligned joint frames");
   if (ra == rb) return;
+  // Same angular velocity in space (body-frame omega times the frame).
+  auto spin = [&](int r) -> Vec3 {
+    const DofBlock& blk = model_.blocks[r];
+    return blk.fixed ? Vec3::Zero() : Vec3(blk.orientation0 * blk.velocity0);
+  };
+  if ((spin(ra) - spin(rb)).norm() > kPositionTolerance * (1 + spin(ra).norm()))
+    throw ModelError(what + ": the joints start with different angular velocities " + fmt(spin(ra)) + " and " +
+                     fmt(spin(rb)) + " (inertial frame); a shared fixed node has one");
   if (model_.blocks[rb].fixed && !model_.blocks[ra].fixed)
     parent_[ra] = {rb, link.transpose()};
   else

@@ -45,8 +45,8 @@ int main(int argc, char** argv) {
         return kInputError;
       }
       options.output_directory = argv[++i];
-    } else if (options.model_path.empty() && argv[i][0] != '-') {
-      options.model_path = argv[i];
+    } else if (i == 2 && argv[i][0] != '-') {
+      options.model_path = argv[i];  // right after the command, so option values are never taken for it
     } else {
       petsc_args.push_back(argv[i]);
     }

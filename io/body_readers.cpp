@@ -23,6 +23,7 @@ RigidBodyProperties read_mass_properties(const ReaderContext& ctx, const InputNo
     const Material m = ctx.material(n["material"]);
     return cylinder_body(m.density, n["length"].as_positive(), s.outer_radius, s.inner_radius);
   }
+  if (n.has("material")) n["material"].fail("a material applies to a rigid body built from section and length, not to one with mass and inertia");
   p.mass = n["mass"].as_positive();
   p.centroid = n.get_vec3("centroid", Vec3::Zero());
   const InputNode in = n["inertia"];
@@ -121,7 +122,7 @@ void read_ground(ReaderContext& ctx, const InputNode& n) {
     for (const InputNode& j : joints->items()) {
       j.allow_only({"name", "position", "rotation", "rotation_deg", "axis_angle", "cardan_zyx_deg"});
       const std::string jname = j.get_string("name", std::to_string(index++));
-      if (jname.find('.') != std::string::npos) j.fail("joint names must not contain '.'");
+      if (jname.empty() || jname.find('.') != std::string::npos) j.fail("joint names must be non-empty and contain no '.'");
       BodyRecord& ground = ctx.bodies.at("ground");
       if (ground.joints.count(jname)) j.fail("the ground has two joints named '" + jname + "'");
       ground.joints[jname] = ctx.builder.add_ground_joint("ground." + jname, j.get_vec3("position", Vec3::Zero()),

@@ -15,9 +15,9 @@ Drive make(const InputNode& n) {
     return Drive::Constant{n["value"].as_double()};
   }
   if (type == "trapezoidal") {
-    n.allow_only({"type", "start", "duration", "accel_time", "decel_time", "distance", "initial"});
+    n.allow_only({"type", "t_start", "duration", "accel_time", "decel_time", "distance", "initial"});
     Drive::TrapezoidalVelocity p;
-    p.t_start = n.get_double("start", 0.0);
+    p.t_start = n.get_double("t_start", 0.0);
     p.duration = n["duration"].as_positive();
     p.accel_time = n["accel_time"].as_positive();
     p.decel_time = n["decel_time"].as_positive();

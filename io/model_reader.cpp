@@ -8,6 +8,7 @@
 
 #include <filesystem>
 #include <map>
+#include <set>
 
 namespace latticedyn {
 
@@ -28,7 +29,9 @@ void read_constraints(ReaderContext& ctx, const InputNode& list, std::map<std::s
     n.allow_only({"name", "type", "axis", "joints", "drive", "shared"});
     Constraint c;
     c.name = n.get_string("name", "constraint" + std::to_string(index++));
-    if (where.count(c.name)) n["name"].fail("a constraint named '" + c.name + "' exists already");
+    if (where.count(c.name))
+      (n.has("name") ? n["name"] : n).fail("a constraint named '" + c.name + "' exists already" +
+                                           (n.has("name") ? "" : " (the automatic name of this unnamed one)"));
     const std::string type = n["type"].as_choice({"fixed", "revolute", "prismatic", "spherical"});
     c.type = type == "fixed"      ? ConstraintType::fixed
              : type == "revolute" ? ConstraintType::revolute
@@ -61,10 +64,13 @@ void read_constraints(ReaderContext& ctx, const InputNode& list, std::map<std::s
 
 void read_loads(ReaderContext& ctx, const InputNode& list) {
   int index = 1;
+  std::set<std::string> names;
   for (const InputNode& n : list.items()) {
     n.allow_only({"name", "joint", "force", "force_frame", "moment", "moment_frame", "drive"});
     NodalLoad l;
     l.name = n.get_string("name", "load" + std::to_string(index++));
+    if (!names.insert(l.name).second)
+      (n.has("name") ? n["name"] : n).fail("a load named '" + l.name + "' exists already");
     l.joint = ctx.joint(n["joint"]);
     if (!n.has("force") && !n.has("moment")) n.fail("a load needs a 'force' or a 'moment'");
     l.force = n.get_vec3("force", Vec3::Zero());
@@ -132,7 +138,8 @@ void read_solver(const InputNode& n, Simulation& sim) {
     }
     dy.baumgarte_alpha = d->get_non_negative("baumgarte_alpha", dy.baumgarte_alpha);
     dy.baumgarte_beta = d->get_non_negative("baumgarte_beta", dy.baumgarte_beta);
-    dy.rk_type = d->get_string("rk_type", dy.rk_type);
+    if (auto k = d->get("rk_type"))  // PETSc's TSRK schemes
+      dy.rk_type = k->as_choice({"1fe", "2a", "2b", "3", "3bs", "4", "5f", "5dp", "5bs", "6vr", "7vr", "8vr"});
   }
 }
 

@@ -185,7 +185,7 @@ int verify(const std::string& case_path, MPI_Comm comm) {
     const Result r = evaluate(c, tr, dir, comm);
     if (rank != 0) continue;
     all = all && r.pass;
-    std::printf("%s  %-48s %.10g  (expected %s)\n", r.pass ? "pass" : "FAIL", r.what.c_str(), r.value, r.expectation.c_str());
+    std::printf("%s  %-48s  %.10g  (expected %s)\n", r.pass ? "pass" : "FAIL", r.what.c_str(), r.value, r.expectation.c_str());
   }
   int ok = all ? 1 : 0;
   MPI_Bcast(&ok, 1, MPI_INT, 0, comm);

@@ -56,6 +56,20 @@ TEST(ModelBuilder, RejectsSharingOfSeparatedJoints) {
   }
 }
 
+TEST(ModelBuilder, RejectsSharedNodesWithDifferentInitialVelocities) {
+  ModelBuilder b;
+  const auto S1 = testing::add_strut(b, "s1", Vec3(0, 0, 0), Vec3(1, 0, 0));
+  const auto S2 = testing::add_rigid_body(b, "body", 1.0, Vec3(1, 0, 0), Vec3::Zero(), Vec3(0, 2, 0));
+  const int jb = testing::add_body_joint(b, S2, "o", Vec3::Zero());
+  b.add_constraint(make("ball", ConstraintType::spherical, S1.j2, jb), true);
+  try {
+    b.build();
+    FAIL() << "expected a ModelError";
+  } catch (const ModelError& e) {
+    EXPECT_NE(std::string(e.what()).find("different velocities"), std::string::npos) << e.what();
+  }
+}
+
 TEST(ModelBuilder, RejectsRevoluteSharingAndOrientationOnStrutEnds) {
   ModelBuilder b;
   const auto A = testing::add_rigid_body(b, "a", 1.0, Vec3(0, 0, 0), Vec3(0, 0, 0));

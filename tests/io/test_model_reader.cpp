@@ -145,6 +145,12 @@ INSTANTIATE_TEST_SUITE_P(
         BadInput{"unknown_type", "type: strut_tie", "type: strut", 0, "bodies[1].type", "not one of"},
         BadInput{"shared_joints_apart", "ends: [[1, 0, -1], [1, 0, -2]]", "ends: [[1, 0, -1.5], [1, 0, -2]]", 4,
                  "constraints[2]", "apart"},
+        BadInput{"unknown_rk_scheme", "rho_infinity: 0.8}", "rho_infinity: 0.8, rk_type: rk99}", 0,
+                 "solver.dynamics.rk_type", "not one of"},
+        BadInput{"duplicate_constraint_name", "{name: hook,", "{name: hinge,", 0, "constraints[1].name",
+                 "exists already"},
+        BadInput{"material_on_custom_body", "    mass: 3\n", "    mass: 3\n    material: steel\n", 1,
+                 "bodies[0].material", "applies to a rigid body built from section"},
         BadInput{"axis_on_spherical", "type: spherical,", "type: spherical, axis: x,", 0, "constraints[1].axis",
                  "only revolute and prismatic"}),
     [](const ::testing::TestParamInfo<BadInput>& info) { return std::string(info.param.name); });
