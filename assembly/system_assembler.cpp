@@ -89,7 +89,8 @@ SystemAssembler::SystemAssembler(const Model& model, MPI_Comm comm)
 
 SystemAssembler::~SystemAssembler() {
   VecScatterDestroy(&to_local_);
-  for (Vec* v : {&global_template_, &u_loc_, &v_loc_, &a_loc_, &uc_loc_, &r_loc_}) VecDestroy(v);
+  VecScatterDestroy(&to_root_);
+  for (Vec* v : {&global_template_, &u_loc_, &v_loc_, &a_loc_, &uc_loc_, &r_loc_, &root_seq_}) VecDestroy(v);
 }
 
 void SystemAssembler::estimate_scales() {
@@ -182,12 +183,14 @@ PetscErrorCode SystemAssembler::scatter_in(const EvaluationPoint& at) {
   PetscFunctionReturn(0);
 }
 
-void SystemAssembler::compute_states(const EvaluationSettings& how, bool with_chain, double cq, double cv, double ca) {
+PetscErrorCode SystemAssembler::compute_states(const EvaluationSettings& how, bool with_chain, double cq, double cv,
+                                               double ca) {
   const PetscScalar *u, *v = nullptr, *a = nullptr, *uc = nullptr;
-  VecGetArrayRead(u_loc_, &u);
-  if (have_v_) VecGetArrayRead(v_loc_, &v);
-  if (have_a_) VecGetArrayRead(a_loc_, &a);
-  if (separate_uc_) VecGetArrayRead(uc_loc_, &uc);
+  PetscFunctionBeginUser;
+  PetscCall(VecGetArrayRead(u_loc_, &u));
+  if (have_v_) PetscCall(VecGetArrayRead(v_loc_, &v));
+  if (have_a_) PetscCall(VecGetArrayRead(a_loc_, &a));
+  if (separate_uc_) PetscCall(VecGetArrayRead(uc_loc_, &uc));
   const bool rates = how.param == Parametrization::rotation_vector_rates;
   for (int b : dofs_.needed_blocks()) {
     const int o = local_offset(b);
@@ -205,16 +208,17 @@ void SystemAssembler::compute_states(const EvaluationSettings& how, bool with_ch
       if (with_chain) chain_c_[b] = chain_[b];
     }
   }
-  VecRestoreArrayRead(u_loc_, &u);
-  if (have_v_) VecRestoreArrayRead(v_loc_, &v);
-  if (have_a_) VecRestoreArrayRead(a_loc_, &a);
-  if (separate_uc_) VecRestoreArrayRead(uc_loc_, &uc);
+  PetscCall(VecRestoreArrayRead(u_loc_, &u));
+  if (have_v_) PetscCall(VecRestoreArrayRead(v_loc_, &v));
+  if (have_a_) PetscCall(VecRestoreArrayRead(a_loc_, &a));
+  if (separate_uc_) PetscCall(VecRestoreArrayRead(uc_loc_, &uc));
+  PetscFunctionReturn(0);
 }
 
 PetscErrorCode SystemAssembler::residual(const EvaluationPoint& at, const EvaluationSettings& how, Vec F, PetscBool* finite) {
   PetscFunctionBeginUser;
   PetscCall(scatter_in(at));
-  compute_states(how, false, 1.0, 0.0, 0.0);
+  PetscCall(compute_states(how, false, 1.0, 0.0, 0.0));
 
   const PetscScalar* uc;
   PetscCall(VecGetArrayRead(separate_uc_ ? uc_loc_ : u_loc_, &uc));
@@ -321,7 +325,7 @@ PetscErrorCode SystemAssembler::jacobian(const EvaluationPoint& at, const Evalua
                                          double ca, Mat J) {
   PetscFunctionBeginUser;
   PetscCall(scatter_in(at));
-  compute_states(how, true, cq, cv, ca);
+  PetscCall(compute_states(how, true, cq, cv, ca));
   const bool rates = how.param == Parametrization::rotation_vector_rates;
   const PetscScalar* uc;
   PetscCall(VecGetArrayRead(separate_uc_ ? uc_loc_ : u_loc_, &uc));
@@ -556,7 +560,7 @@ PetscErrorCode SystemAssembler::max_constraint_violation(Vec U, double t, double
   PetscFunctionBeginUser;
   PetscCall(scatter_in(EvaluationPoint{U, nullptr, nullptr, nullptr, t, t}));
   EvaluationSettings how;
-  compute_states(how, false, 1.0, 0.0, 0.0);
+  PetscCall(compute_states(how, false, 1.0, 0.0, 0.0));
   struct {
     double value;
     int index;
@@ -583,23 +587,20 @@ PetscErrorCode SystemAssembler::gather(double t, Vec U, Vec V, Vec A, Parametriz
   PetscFunctionBeginUser;
   std::vector<double> full[3];
   const Vec in[3] = {U, V, A};
+  // U, V and A share one layout: one scatter to rank 0, made on first use.
+  if (!to_root_) PetscCall(VecScatterCreateToZero(global_template_, &to_root_, &root_seq_));
   for (int k = 0; k < 3; ++k) {
     if (!in[k]) continue;
-    VecScatter scatter;
-    Vec seq;
-    PetscCall(VecScatterCreateToZero(in[k], &scatter, &seq));
-    PetscCall(VecScatterBegin(scatter, in[k], seq, INSERT_VALUES, SCATTER_FORWARD));
-    PetscCall(VecScatterEnd(scatter, in[k], seq, INSERT_VALUES, SCATTER_FORWARD));
+    PetscCall(VecScatterBegin(to_root_, in[k], root_seq_, INSERT_VALUES, SCATTER_FORWARD));
+    PetscCall(VecScatterEnd(to_root_, in[k], root_seq_, INSERT_VALUES, SCATTER_FORWARD));
     if (dofs_.rank() == 0) {
       const PetscScalar* x;
       PetscInt n;
-      PetscCall(VecGetLocalSize(seq, &n));
-      PetscCall(VecGetArrayRead(seq, &x));
+      PetscCall(VecGetLocalSize(root_seq_, &n));
+      PetscCall(VecGetArrayRead(root_seq_, &x));
       full[k].assign(x, x + n);
-      PetscCall(VecRestoreArrayRead(seq, &x));
+      PetscCall(VecRestoreArrayRead(root_seq_, &x));
     }
-    PetscCall(VecScatterDestroy(&scatter));
-    PetscCall(VecDestroy(&seq));
   }
   if (dofs_.rank() == 0 && state) state->set(t, full[0], full[1], full[2], param);
   PetscFunctionReturn(0);

@@ -81,7 +81,7 @@ class SystemAssembler {
  private:
   struct LocalData;
   PetscErrorCode scatter_in(const EvaluationPoint& at);
-  void compute_states(const EvaluationSettings& how, bool with_chain, double cq, double cv, double ca);
+  PetscErrorCode compute_states(const EvaluationSettings& how, bool with_chain, double cq, double cv, double ca);
   int local_offset(int block) const { return local_block_offset_[block]; }
   void estimate_scales();
 
@@ -94,6 +94,8 @@ class SystemAssembler {
   Vec global_template_ = nullptr;
   Vec u_loc_ = nullptr, v_loc_ = nullptr, a_loc_ = nullptr, uc_loc_ = nullptr, r_loc_ = nullptr;
   VecScatter to_local_ = nullptr;
+  VecScatter to_root_ = nullptr;  // gather() to rank 0
+  Vec root_seq_ = nullptr;
   bool have_v_ = false, have_a_ = false, separate_uc_ = false;
   std::vector<BlockState> state_, state_c_;
   std::vector<BlockChain> chain_, chain_c_;

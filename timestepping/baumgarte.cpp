@@ -171,22 +171,9 @@ PetscErrorCode BaumgarteIntegrator::monitor(TS ts, PetscInt step, PetscReal t, V
   PetscInt rejects;
   PetscCall(TSGetPrevTime(ts, &t_prev));
   PetscCall(TSGetStepRejections(ts, &rejects));
-  double violation;
-  int where;
-  PetscCall(self->sa_.max_constraint_violation(self->U_, t, &violation, &where));
-  DynamicReport& r = *self->report_;
-  if (violation > r.max_violation || r.violation_constraint < 0) {
-    r.max_violation = violation;
-    r.violation_constraint = where;
-  }
-  r.steps = step;
-  r.time_reached = t;
-  r.rejected_steps = rejects;
-  if (self->observer_) {
-    StepInfo info{static_cast<int>(step), t, t - t_prev, self->U_, self->V_, self->A_,
-                  Parametrization::velocity_variables, 0, rejects};
-    PetscCall(self->observer_->on_step(info));
-  }
+  const StepInfo info{static_cast<int>(step), t, t - t_prev, self->U_, self->V_, self->A_,
+                      Parametrization::velocity_variables, 0, rejects};
+  PetscCall(record_step(self->sa_, info, self->report_, self->observer_));
   PetscFunctionReturn(0);
 }
 

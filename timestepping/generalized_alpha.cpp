@@ -187,23 +187,9 @@ PetscErrorCode GeneralizedAlphaIntegrator::monitor(TS ts, PetscInt step, PetscRe
   }
   PetscCall(VecCopy(V, self->V_prev_));
 
-  double violation;
-  int where;
-  PetscCall(self->sa_.max_constraint_violation(U, t, &violation, &where));
-  DynamicReport& r = *self->report_;
-  if (violation > r.max_violation || r.violation_constraint < 0) {
-    r.max_violation = violation;
-    r.violation_constraint = where;
-  }
-  r.steps = step;
-  r.time_reached = t;
-  r.newton_iterations = snes_its;
-  r.rejected_steps = rejects;
-  if (self->observer_) {
-    StepInfo info{static_cast<int>(step), t, t - t_prev, U, V, self->A_est_, Parametrization::rotation_vector_rates,
-                  snes_its, rejects};
-    PetscCall(self->observer_->on_step(info));
-  }
+  const StepInfo info{static_cast<int>(step), t, t - t_prev, U, V, self->A_est_, Parametrization::rotation_vector_rates,
+                      snes_its, rejects};
+  PetscCall(record_step(self->sa_, info, self->report_, self->observer_));
   PetscFunctionReturn(0);
 }
 

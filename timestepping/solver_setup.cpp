@@ -53,6 +53,23 @@ PetscErrorCode set_roundoff_convergence_test(SNES snes) {
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode record_step(SystemAssembler& sa, const StepInfo& info, DynamicReport* r, StepObserver* observer) {
+  double violation;
+  int where;
+  PetscFunctionBeginUser;
+  PetscCall(sa.max_constraint_violation(info.U, info.time, &violation, &where));
+  if (violation > r->max_violation || r->violation_constraint < 0) {
+    r->max_violation = violation;
+    r->violation_constraint = where;
+  }
+  r->steps = info.step;
+  r->time_reached = info.time;
+  r->newton_iterations = info.newton_iterations;
+  r->rejected_steps = info.rejected_steps;
+  if (observer) PetscCall(observer->on_step(info));
+  PetscFunctionReturn(0);
+}
+
 std::string describe_violation(const Model& model, double value, int constraint) {
   if (constraint < 0) return "no constraints";
   const Constraint& c = model.constraints[constraint];

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "assembly/system_assembler.hpp"
+#include "timestepping/dynamic_settings.hpp"
 
 #include <petscsnes.h>
 
@@ -39,6 +40,10 @@ class StepObserver {
   virtual ~StepObserver() = default;
   virtual PetscErrorCode on_step(const StepInfo& info) = 0;
 };
+
+/// After an accepted step: updates the report (time, steps, iterations, rejections, the largest
+/// constraint violation so far) and hands the step to the observer (if any). Collective.
+PetscErrorCode record_step(SystemAssembler& sa, const StepInfo& info, DynamicReport* report, StepObserver* observer);
 
 /// "constraint 'hinge' (revolute), |g| = 1.2e-3" or "no constraints".
 std::string describe_violation(const Model& model, double value, int constraint);

@@ -121,6 +121,12 @@ TEST_F(Cli, BadInputGivesFileLineKeyExitCodeTwoAndNoOutput) {
       {"    mass: 2.0\n", "    mass: -2.0\n", "bad.yaml:9:", "bodies[0].mass"},            // meaningless value
       {"time_step: 0.01", "time_step: -0.01", "bad.yaml:19:", "solver.dynamics.time_step"},  // non-positive step
       {"rod.pivot]", "rod.knee]", "bad.yaml:17:", "constraints[0].joints[1]"},              // dangling reference
+      {"rotation_deg: [0, 20, 0]", "axis_angle: {axis: [0, 0, 0], angle_deg: 20}", "bad.yaml:12:",
+       "bodies[0].axis_angle.axis"},                                                        // zero-length axis
+      {"    mass: 2.0\n    centroid: [0, 0, -0.5]\n    inertia: [0.17, 0.17, 0.001]\n",
+       "    section: {type: round_tube, outer_radius: 0.05}\n    material: {density: 7800, youngs_modulus: 2e11, "
+       "poisson_ratio: 0.3}\n    length: -1\n",
+       "bad.yaml:11:", "bodies[0].length"},                                                 // negative length
   };
   for (const Bad& b : cases) {
     write("bad.yaml", replaced(kPendulum, b.from, b.to));
