@@ -30,6 +30,7 @@ void block_kinematics(const DofBlock& block, const double* u, const double* v, c
   }
   switch (block.kind) {
     case SlotKind::translation:
+    case SlotKind::vector:
     case SlotKind::scalar:
       s.pos = vec(u);
       s.vel = vec(v);

@@ -20,7 +20,7 @@ namespace latticedyn {
 struct DofBlock {
   SlotKind kind = SlotKind::translation;
   bool fixed = false;
-  Vec3 position0 = Vec3::Zero();     ///< translation: r; scalar: position0(0)
+  Vec3 position0 = Vec3::Zero();     ///< translation: r; vector: its value; scalar: position0(0)
   Mat3 orientation0 = Mat3::Identity();
   Vec3 velocity0 = Vec3::Zero();     ///< translation: r_dot; rotation: body omega; scalar: (0)
   std::string label;                 ///< where it comes from, for messages ("boom.end2")
@@ -28,6 +28,12 @@ struct DofBlock {
 
   static DofBlock translation(const Vec3& position, const Vec3& velocity, std::string label, bool fixed = false) {
     return DofBlock{SlotKind::translation, fixed, position, Mat3::Identity(), velocity, std::move(label)};
+  }
+  static DofBlock vector(const Vec3& value, const Vec3& rate, std::string label, bool fixed = false) {
+    return DofBlock{SlotKind::vector, fixed, value, Mat3::Identity(), rate, std::move(label)};
+  }
+  static DofBlock scalar(double value, double rate, std::string label, bool fixed = false) {
+    return DofBlock{SlotKind::scalar, fixed, Vec3(value, 0, 0), Mat3::Identity(), Vec3(rate, 0, 0), std::move(label)};
   }
   static DofBlock rotation(const Mat3& orientation, const Vec3& omega, std::string label, bool fixed = false) {
     return DofBlock{SlotKind::rotation, fixed, Vec3::Zero(), orientation, omega, std::move(label)};

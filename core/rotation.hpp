@@ -123,6 +123,24 @@ Mat3T<S> tangent_operator_rate(const Vec3T<S>& phi, const Vec3T<S>& phi_dot) {
 /// Rotation vector of a rotation matrix (log map), |phi| <= pi; robust near 0 and near pi.
 Vec3 rotation_vector(const Mat3& R);
 
+/// Log map for rotations of less than pi/2 (e.g. an element's deformational rotations), templated
+/// for automatic differentiation: phi = theta / sin(theta) unskew(R), with theta / sin(theta) from
+/// its series in sin^2 near 0 so that derivatives stay exact there.
+template <class S>
+Vec3T<S> small_rotation_vector(const Mat3T<S>& R) {
+  using std::atan2;
+  using std::sqrt;
+  const Vec3T<S> v = unskew(R);  // sin(theta) n
+  const S s2 = v.squaredNorm();
+  if (scalar_value(s2) < 1e-4) {
+    // asin(s)/s = 1 + s^2/6 + 3 s^4/40 + 5 s^6/112 + 35 s^8/1152 (cos(theta) > 0 here)
+    return v * rotation_detail::poly(s2, 1.0, 1.0 / 6, 3.0 / 40, 5.0 / 112, 35.0 / 1152);
+  }
+  const S s = sqrt(s2);
+  const S c = (R.trace() - S(1)) / S(2);
+  return v * (atan2(s, c) / s);
+}
+
 /// The same rotation with |phi| <= pi: subtracts the multiple of 2 pi along the axis. Used after
 /// a time step so that T(phi) never approaches its singularity at |phi| = 2 pi.
 Vec3 rescaled_rotation_vector(const Vec3& phi);

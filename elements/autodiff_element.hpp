@@ -77,6 +77,7 @@ class AutoDiffElement : public Element {
     }
     switch (kind) {
       case SlotKind::translation:
+      case SlotKind::vector:
         for (int i = 0; i < 3; ++i) {
           s.pos(i) = variable(in.pos(i), o + i);
           s.vel(i) = variable(in.vel(i), N + o + i);

@@ -9,7 +9,7 @@ int Element::num_dofs() const {
   return n;
 }
 
-std::vector<Vec3> Element::axis_points(std::span<const SlotState<double>> state) const {
+std::vector<Vec3> Element::axis_points(std::span<const SlotState<double>> state, const ElementContext&) const {
   std::vector<Vec3> pts;
   const auto kinds = slots();
   for (std::size_t k = 0; k < kinds.size(); ++k)

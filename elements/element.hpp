@@ -15,15 +15,17 @@
 namespace latticedyn {
 
 /// What a DoF slot of an element is: a point position (3), a frame orientation (3, perturbed
-/// on the right by a body-frame rotation vector), or one scalar coordinate.
-enum class SlotKind : std::uint8_t { translation, rotation, scalar };
+/// on the right by a body-frame rotation vector), one scalar coordinate, or a free 3-vector
+/// that is not a point (the slope r' of a rope's absolute nodal coordinates).
+enum class SlotKind : std::uint8_t { translation, rotation, scalar, vector };
 
 constexpr int slot_size(SlotKind k) { return k == SlotKind::scalar ? 1 : 3; }
 
 /// Kinematic state of one slot in the thesis's velocity variables dq = [r_dot, B omega]:
 ///   translation: pos = r, vel = r_dot, acc = r_ddot (inertial frame);
 ///   rotation:    rot = R (slot frame -> inertial), vel = omega, acc = omega_dot (slot frame);
-///   scalar:      pos(0), vel(0), acc(0).
+///   scalar:      pos(0), vel(0), acc(0);
+///   vector:      pos = the vector, vel, acc its rates (like a translation, but not a point).
 /// Fields a kind does not use are left alone.
 template <class S>
 struct SlotState {
@@ -81,7 +83,7 @@ class Element {
   }
   /// Points along the element's axis for drawing it as a polyline; rigid bodies return none
   /// (they are drawn through their joints).
-  virtual std::vector<Vec3> axis_points(std::span<const SlotState<double>> state) const;
+  virtual std::vector<Vec3> axis_points(std::span<const SlotState<double>> state, const ElementContext& ctx) const;
 };
 
 }  // namespace latticedyn

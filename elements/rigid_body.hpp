@@ -30,7 +30,7 @@ class RigidBody final : public AutoDiffElement<RigidBody, 6> {
   std::string_view type_name() const override { return "rigid_body"; }
   ElementEnergy energy(std::span<const SlotState<double>> state,
                        const ElementContext& ctx) const override;
-  std::vector<Vec3> axis_points(std::span<const SlotState<double>>) const override { return {}; }
+  std::vector<Vec3> axis_points(std::span<const SlotState<double>>, const ElementContext&) const override { return {}; }
 
   const RigidBodyProperties& properties() const { return props_; }
   const Mat3& inertia_origin() const { return inertia_origin_; }

@@ -25,6 +25,11 @@ struct SectionProperties {
   double outer_radius = 0.0;      ///< round tube radii (for shear coefficient and drawing)
   double inner_radius = 0.0;
   double custom_shear_coefficient = 0.0;  ///< custom sections: given kappa, or 0 for 5/6
+  double mass_per_length = 0.0;  ///< custom sections: given mass per length [kg/m], or 0 for rho A
+
+  /// The density the section's inertia uses: the material's, or mass_per_length / A when a
+  /// custom section gives its mass (Table 5-1's "quality"); rotary inertia scales with it.
+  double effective_density(const Material& m) const { return mass_per_length > 0 ? mass_per_length / area : m.density; }
 
   /// Timoshenko shear coefficient kappa (shear stiffness kappa G A): Cowper's formula for round
   /// tubes (0.886 solid, ~0.53 thin wall at nu = 0.3), A_web/A for frames, 5/6 or given otherwise.

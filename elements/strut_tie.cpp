@@ -18,9 +18,9 @@ void StrutTieProperties::validate() const {
 
 StrutTie::StrutTie(const StrutTieProperties& p) : props_(p) {
   props_.validate();
-  mass_ = p.material.density * p.section.area * p.rest_length;
+  mass_ = p.section.effective_density(p.material) * p.section.area * p.rest_length;
   ea_ = p.material.youngs_modulus * p.section.area;
-  rotary_inertia_ = p.material.density * 0.5 * (p.section.Iy + p.section.Iz) * p.rest_length;
+  rotary_inertia_ = p.section.effective_density(p.material) * 0.5 * (p.section.Iy + p.section.Iz) * p.rest_length;
 }
 
 ElementEnergy StrutTie::energy(std::span<const SlotState<double>> s, const ElementContext& ctx) const {

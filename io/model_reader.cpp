@@ -93,7 +93,7 @@ void read_solver(const InputNode& n, Simulation& sim) {
   n.allow_only({"static", "dynamics", "petsc_options"});
   sim.petsc_options = n.get_string("petsc_options", "");
   if (auto s = n.get("static")) {
-    s->allow_only({"enabled", "load_steps", "max_iterations", "max_cuts", "rtol", "atol", "time"});
+    s->allow_only({"enabled", "load_steps", "max_iterations", "max_cuts", "rtol", "atol", "time", "regularization"});
     sim.run_static = s->get_bool("enabled", true);
     StaticSettings& st = sim.statics;
     if (auto k = s->get("load_steps")) {
@@ -111,6 +111,7 @@ void read_solver(const InputNode& n, Simulation& sim) {
     st.rtol = s->get_positive("rtol", st.rtol);
     st.atol = s->get_positive("atol", st.atol);
     st.time = s->get_double("time", st.time);
+    st.regularization = s->get_non_negative("regularization", st.regularization);
   }
   if (auto d = n.get("dynamics")) {
     d->allow_only({"integrator", "t_start", "t_end", "time_step", "rho_infinity", "adaptive", "rtol", "atol", "max_steps",

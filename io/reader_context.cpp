@@ -29,9 +29,11 @@ SectionProperties read_section(const InputNode& n) {
     n.allow_only({"type", "height", "width", "thickness"});
     return frame_section(n["height"].as_positive(), n["width"].as_positive(), n["thickness"].as_positive());
   }
-  n.allow_only({"type", "area", "Iy", "Iz", "torsion_constant", "shear_coefficient"});
-  return custom_section(n["area"].as_positive(), n["Iy"].as_positive(), n["Iz"].as_positive(),
-                        n["torsion_constant"].as_positive(), n.get_positive("shear_coefficient", 5.0 / 6.0));
+  n.allow_only({"type", "area", "Iy", "Iz", "torsion_constant", "shear_coefficient", "mass_per_length"});
+  SectionProperties s = custom_section(n["area"].as_positive(), n["Iy"].as_positive(), n["Iz"].as_positive(),
+                                       n["torsion_constant"].as_positive(), n.get_positive("shear_coefficient", 5.0 / 6.0));
+  s.mass_per_length = n.get_positive("mass_per_length", 0.0);
+  return s;
 }
 
 Material ReaderContext::material(const InputNode& n) const {

@@ -59,7 +59,7 @@ struct ResultWriter::Impl {
   fs::path h5, xdmf, csv;
   io::Hdf5Context ctx;
   Hid file;
-  std::vector<int> translation, rotation, scalar;  // model block indices by kind
+  std::vector<int> translation, rotation, scalar, vectors;  // model block indices by kind
   std::vector<Output> outputs;                     // declared after `file`: closed before it
   int steps = 0;                                   // completed appends
   std::optional<io::XdmfDocument> document;        // none while nothing is drawn
@@ -114,6 +114,7 @@ ResultWriter::Impl::Impl(const Model& m, ResultWriterOptions o) : model(m), opts
       case SlotKind::translation: translation.push_back(b); break;
       case SlotKind::rotation: rotation.push_back(b); break;
       case SlotKind::scalar: scalar.push_back(b); break;
+      case SlotKind::vector: vectors.push_back(b); break;
     }
   }
 
@@ -146,6 +147,7 @@ void ResultWriter::Impl::write_model() {
   io::write_ints(m, "translation_blocks", translation, ctx);
   io::write_ints(m, "rotation_blocks", rotation, ctx);
   io::write_ints(m, "scalar_blocks", scalar, ctx);
+  io::write_ints(m, "vector_blocks", vectors, ctx);
 
   std::vector<std::string> labels;
   std::vector<int> kind, fixed;
@@ -223,7 +225,7 @@ void ResultWriter::Impl::add(hid_t group, const std::string& name, std::vector<h
 
 void ResultWriter::Impl::create_series() {
   const hid_t root = file.get();
-  const hsize_t nt = translation.size(), nr = rotation.size(), ns = scalar.size();
+  const hsize_t nt = translation.size(), nr = rotation.size(), ns = scalar.size(), nv = vectors.size();
   const hsize_t nj = model.joints.size(), ne = model.elements.size(), nc = model.constraints.size();
   const auto nm = static_cast<hsize_t>(model.num_multipliers());
 
@@ -253,6 +255,10 @@ void ResultWriter::Impl::create_series() {
   });
   add(b, "scalar_velocity", {ns}, "model units/s", [this](const ModelState& s, double* out) {
     for (int i : scalar) *out++ = s.block(i).vel(0);
+  });
+  // Free vectors, e.g. the slopes r' of ropes (absolute nodal coordinates).
+  add(b, "vector", {nv, 3}, "model units", [this](const ModelState& s, double* out) {
+    for (int i : vectors) copy3(s.block(i).pos, std::exchange(out, out + 3));
   });
 
   const Hid joints = io::create_group(root, "joints", ctx);

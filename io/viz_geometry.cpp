@@ -60,7 +60,7 @@ VizGeometry VizGeometry::plan(const ModelState& state) {
   int next = 0;
   for (std::size_t e = 0; e < model.elements.size(); ++e) {
     const int n =
-        static_cast<int>(model.elements[e].element->axis_points(state.element_slots(static_cast<int>(e))).size());
+        static_cast<int>(model.elements[e].element->axis_points(state.element_slots(static_cast<int>(e)), state.context()).size());
     g.axis_count_.push_back(n);
     g.element_first_.push_back(n >= 2 ? next : -1);
     if (n < 2) continue;  // a single point draws no line
@@ -79,7 +79,7 @@ void VizGeometry::points(const ModelState& state, std::vector<double>& xyz) cons
   xyz.assign(3 * static_cast<std::size_t>(num_points()), 0.0);
   for (std::size_t e = 0; e < model.elements.size(); ++e) {
     const Element& element = *model.elements[e].element;
-    const auto pts = element.axis_points(state.element_slots(static_cast<int>(e)));
+    const auto pts = element.axis_points(state.element_slots(static_cast<int>(e)), state.context());
     if (static_cast<int>(pts.size()) != axis_count_[e])
       throw std::runtime_error("ResultWriter: element " + std::to_string(e) + " (" +
                                std::string(element.type_name()) + ") has " + std::to_string(pts.size()) +

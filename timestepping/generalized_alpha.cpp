@@ -59,8 +59,11 @@ GeneralizedAlphaIntegrator::GeneralizedAlphaIntegrator(SystemAssembler& sa, Dyna
     PetscCallAbort(comm, TSSetTolerances(ts_, 0.0, vatol, 0.0, vrtol));
     PetscCallAbort(comm, VecDestroy(&vatol));
     PetscCallAbort(comm, VecDestroy(&vrtol));
-    PetscCallAbort(comm, TSSetMaxSNESFailures(ts_, -1));  // a failed Newton solve shrinks the step
   }
+  // A failed Newton solve retries the step at a quarter of its size (PETSc's TSAdapt), up to
+  // kMaxStepCuts times in a row (post_step re-arms the count); fixed-step runs then return to
+  // their step (tension-only ropes switching between slack and taut need this now and then).
+  PetscCallAbort(comm, TSSetMaxSNESFailures(ts_, kMaxStepCuts + 1));
 
   SNES snes;
   KSP ksp;
@@ -73,7 +76,7 @@ GeneralizedAlphaIntegrator::GeneralizedAlphaIntegrator(SystemAssembler& sa, Dyna
   // rtol 1e-8: the Newton error stays below the time-discretisation error (double pendulum:
   // energy drift 3.9e-5 at 1e-8, 5.7e-5 at 1e-6, 4.0e-5 at 1e-10; docs/performance.md).
   PetscCallAbort(comm, SNESSetTolerances(snes, 1e-10 * force_scale, 1e-8, 1e-14, 25, 100000));
-  PetscCallAbort(comm, set_roundoff_convergence_test(snes));
+  PetscCallAbort(comm, set_roundoff_convergence_test(snes, force_scale));
   PetscCallAbort(comm, SNESGetKSP(snes, &ksp));
   PetscCallAbort(comm, set_direct_solver_defaults(ksp));
   PetscCallAbort(comm, TSSetFromOptions(ts_));  // -ts_, -snes_, -ksp_, -pc_ options win
@@ -158,6 +161,14 @@ PetscErrorCode GeneralizedAlphaIntegrator::post_step(TS ts) {
   PetscCall(TSGetApplicationContext(ts, &ctx));
   auto* self = static_cast<GeneralizedAlphaIntegrator*>(ctx);
   PetscCall(TS2GetSolution(ts, &U, &V));
+  PetscInt failures;
+  PetscCall(TSGetSNESFailures(ts, &failures));
+  PetscCall(TSSetMaxSNESFailures(ts, failures + kMaxStepCuts + 1));
+  if (!self->settings_.adaptive) {
+    PetscReal dt;
+    PetscCall(TSGetTimeStep(ts, &dt));
+    if (dt < self->settings_.time_step) PetscCall(TSSetTimeStep(ts, self->settings_.time_step));
+  }
   PetscCall(self->sa_.rescale_rotations(U, V, Parametrization::rotation_vector_rates, &changed));
   if (changed) {
     // TSALPHA2 keeps the acceleration internally; a restart recomputes it for the new coordinates.

@@ -12,6 +12,9 @@ namespace latticedyn {
 
 class GeneralizedAlphaIntegrator {
  public:
+  /// Consecutive step cuts (x 1/4 each) after failed Newton solves before the run stops.
+  static constexpr int kMaxStepCuts = 8;
+
   GeneralizedAlphaIntegrator(SystemAssembler& assembler, DynamicSettings settings);
   ~GeneralizedAlphaIntegrator();
   GeneralizedAlphaIntegrator(const GeneralizedAlphaIntegrator&) = delete;

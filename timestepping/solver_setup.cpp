@@ -1,6 +1,7 @@
 // Shared solver setup: direct-solver defaults and failure descriptions.
 #include "timestepping/solver_setup.hpp"
 
+#include <algorithm>
 #include <cstdio>
 
 namespace latticedyn {
@@ -22,7 +23,7 @@ PetscErrorCode set_direct_solver_defaults(KSP ksp) {
 namespace {
 
 struct RoundoffTest {
-  PetscReal f0 = 0.0, previous = 0.0;
+  PetscReal reference = 0.0, f0 = 0.0, previous = 0.0;
 };
 
 PetscErrorCode roundoff_test(SNES snes, PetscInt it, PetscReal xnorm, PetscReal snorm, PetscReal fnorm,
@@ -34,7 +35,7 @@ PetscErrorCode roundoff_test(SNES snes, PetscInt it, PetscReal xnorm, PetscReal 
     t->f0 = t->previous = fnorm;
     PetscFunctionReturn(0);
   }
-  if (*reason == SNES_CONVERGED_ITERATING && fnorm <= 1e-6 * t->f0 && fnorm > 0.5 * t->previous)
+  if (*reason == SNES_CONVERGED_ITERATING && fnorm <= 1e-6 * std::max(t->f0, t->reference) && fnorm > 0.5 * t->previous)
     *reason = SNES_CONVERGED_FNORM_RELATIVE;
   t->previous = fnorm;
   PetscFunctionReturn(0);
@@ -47,9 +48,11 @@ PetscErrorCode destroy_roundoff_test(void* ctx) {
 
 }  // namespace
 
-PetscErrorCode set_roundoff_convergence_test(SNES snes) {
+PetscErrorCode set_roundoff_convergence_test(SNES snes, double reference_force) {
   PetscFunctionBeginUser;
-  PetscCall(SNESSetConvergenceTest(snes, roundoff_test, new RoundoffTest, destroy_roundoff_test));
+  auto* test = new RoundoffTest;
+  test->reference = reference_force;
+  PetscCall(SNESSetConvergenceTest(snes, roundoff_test, test, destroy_roundoff_test));
   PetscFunctionReturn(0);
 }
 

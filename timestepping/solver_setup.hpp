@@ -18,10 +18,12 @@ namespace latticedyn {
 PetscErrorCode set_direct_solver_defaults(KSP ksp);
 
 /// SNES convergence test: PETSc's default (atol, rtol, stol) plus "converged to round-off": once
-/// the residual has fallen below 1e-6 of its initial value and a Newton step no longer halves it,
-/// it has reached the floor set by the stiffest terms (e.g. E A of a steel bar times machine
-/// precision) and further iterations cannot improve it. Installed with the context it needs.
-PetscErrorCode set_roundoff_convergence_test(SNES snes);
+/// the residual has fallen below 1e-6 of max(its initial value, reference_force) and a Newton
+/// step no longer halves it, it has reached the floor set by the stiffest terms (e.g. E A of a
+/// steel bar times machine precision) and further iterations cannot improve it. The reference
+/// force covers a step that starts at that floor already (a time step from a static
+/// equilibrium). Installed with the context it needs.
+PetscErrorCode set_roundoff_convergence_test(SNES snes, double reference_force = 0.0);
 
 /// A snapshot after an accepted step (or the initial state, step 0). U, V are the distributed
 /// coordinates/multipliers and rates in `param`; A may be null.

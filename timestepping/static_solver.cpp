@@ -17,6 +17,16 @@ StaticSolver::StaticSolver(SystemAssembler& sa, StaticSettings settings) : sa_(s
   PetscCallAbort(sa_.comm(), SNESSetType(snes_, SNESNEWTONLS));
   PetscCallAbort(sa_.comm(), SNESSetTolerances(snes_, settings_.atol, settings_.rtol, 0.0, settings_.max_iterations, 100000));
   PetscCallAbort(sa_.comm(), set_roundoff_convergence_test(snes_));
+  history_.resize(static_cast<std::size_t>(settings_.max_iterations) + 1);
+  PetscCallAbort(sa_.comm(), SNESSetConvergenceHistory(snes_, history_.data(), nullptr,
+                                                       static_cast<PetscInt>(history_.size()), PETSC_TRUE));
+  // Full Newton steps, with the load increment halved when they fail: a backtracking line search
+  // on the 2-norm of a residual that mixes forces, moments and stiff axial terms crawls in tiny
+  // steps through the (physical) axial-bending coupling of beams under large rotation, where the
+  // full step converges in a few iterations (measured on the end-moment study, docs/elements.md).
+  SNESLineSearch line_search;
+  PetscCallAbort(sa_.comm(), SNESGetLineSearch(snes_, &line_search));
+  PetscCallAbort(sa_.comm(), SNESLineSearchSetType(line_search, SNESLINESEARCHBASIC));
   KSP ksp;
   PetscCallAbort(sa_.comm(), SNESGetKSP(snes_, &ksp));
   PetscCallAbort(sa_.comm(), set_direct_solver_defaults(ksp));
@@ -52,7 +62,10 @@ PetscErrorCode StaticSolver::form_jacobian(SNES, Vec U, Mat J, Mat, void* ctx) {
   auto* self = static_cast<StaticSolver*>(ctx);
   PetscFunctionBeginUser;
   const double t = self->settings_.time;
-  PetscCall(self->sa_.jacobian(EvaluationPoint{U, nullptr, nullptr, nullptr, t, t}, self->evaluation(), 1.0, 0.0, 0.0, J));
+  const double mu = self->regularized_ ? self->settings_.regularization * self->sa_.characteristic_stiffness() /
+                                             self->sa_.characteristic_mass()
+                                       : 0.0;
+  PetscCall(self->sa_.jacobian(EvaluationPoint{U, nullptr, nullptr, nullptr, t, t}, self->evaluation(), 1.0, 0.0, mu, J));
   PetscFunctionReturn(0);
 }
 
@@ -84,6 +97,11 @@ PetscErrorCode StaticSolver::solve(Vec U, StaticReport* report) {
       PetscCall(VecCopy(U, last));
       continue;
     }
+    if (!regularized_ && settings_.regularization > 0) {
+      regularized_ = true;  // retry the increment with the regularized tangent, then keep it
+      PetscCall(VecCopy(last, U));
+      continue;
+    }
     if (++cuts > settings_.max_cuts) break;
     increment *= 0.5;  // back to the last equilibrium with a smaller step
     PetscCall(VecCopy(last, U));
@@ -95,16 +113,28 @@ PetscErrorCode StaticSolver::solve(Vec U, StaticReport* report) {
   char buf[512];
   if (r.converged) {
     std::snprintf(buf, sizeof buf,
-                  "static equilibrium found: %d load increment(s), %d Newton iterations, residual %.3g; largest violation: %s",
-                  r.increments, r.newton_iterations, r.residual_norm,
+                  "static equilibrium found: %d load increment(s), %d Newton iterations%s, residual %.3g; largest violation: %s",
+                  r.increments, r.newton_iterations, regularized_ ? " (regularized tangent)" : "", r.residual_norm,
                   describe_violation(sa_.model(), r.max_violation, r.violation_constraint).c_str());
   } else {
     const char* why = SNESConvergedReasons[reason];
     const bool direction_failed = reason == SNES_DIVERGED_LINEAR_SOLVE || reason == SNES_DIVERGED_LINE_SEARCH;
+    // Did the last increment's iterations get anywhere?
+    const PetscReal* hist = nullptr;
+    PetscInt n = 0;
+    PetscCall(SNESGetConvergenceHistory(snes_, const_cast<PetscReal**>(&hist), nullptr, &n));
+    bool stalled = false;
+    if (hist && n > 2) {
+      const PetscReal best = *std::min_element(hist + 1, hist + n);
+      stalled = !(best < 1e-3 * hist[0]);
+    }
     const char* hint = direction_failed
                            ? " (no usable Newton direction: is the tangent singular? A body free to move without "
                              "stiffness, e.g. unsupported, has no equilibrium; -ksp_converged_reason shows zero pivots)"
-                           : "";
+                       : stalled ? " (the residual does not fall: there is no equilibrium near this state; a body free "
+                                   "to move without support or stiffness is singular, or the load passes a limit point; "
+                                   "-snes_monitor shows the iterations)"
+                                 : "";
     std::snprintf(buf, sizeof buf,
                   "static equilibrium failed at load factor %.4g (last equilibrium at %.4g): SNES %s%s, Newton residual "
                   "%.3g after %d iterations; largest violation: %s",

@@ -8,6 +8,8 @@
 
 #include <string>
 
+#include <vector>
+
 namespace latticedyn {
 
 struct StaticSettings {
@@ -17,6 +19,12 @@ struct StaticSettings {
   double rtol = 1e-10;     ///< SNES relative residual tolerance
   double atol = 1e-8;      ///< SNES absolute residual tolerance (scaled units: N)
   int max_iterations = 50;
+  /// Inertia added to the tangent, K + mu M with mu = regularization x (mean diagonal stiffness
+  /// / mean diagonal mass), once plain Newton has failed on an increment: a pseudo-time step that
+  /// keeps neutral modes solvable (a load spinning on its hook, an unstressed straight rope with
+  /// no lateral stiffness yet). It changes the path of the iterations, not the equilibrium they
+  /// converge to (but costs iterations, so it stays off until needed); 0 never adds it.
+  double regularization = 1e-6;
 };
 
 struct StaticReport {
@@ -51,6 +59,8 @@ class StaticSolver {
   SNES snes_ = nullptr;
   Mat J_ = nullptr;
   Vec F_ = nullptr;
+  std::vector<PetscReal> history_;  ///< residual norms of the current Newton solve
+  bool regularized_ = false;        ///< K + mu M in use (after plain Newton failed once)
   double load_factor_ = 1.0;
 };
 

@@ -52,10 +52,16 @@ PetscErrorCode TrajectoryRecorder::record(double t, Vec U, Vec V, Parametrizatio
   last_recorded_ = t;
   if (sa_.dofs().rank() == 0) {
     std::vector<Vec3> joints;
-    for (std::size_t j = 0; j < sa_.model().joints.size(); ++j) joints.push_back(state_.joint_position(static_cast<int>(j)));
+    std::vector<Mat3> frames;
+    for (std::size_t j = 0; j < sa_.model().joints.size(); ++j) {
+      const auto [r, R] = state_.joint_frame_of(static_cast<int>(j));
+      joints.push_back(r);
+      frames.push_back(R);
+    }
     const ElementEnergy e = state_.energy();
     out_->time.push_back(t);
     out_->joints.push_back(std::move(joints));
+    out_->frames.push_back(std::move(frames));
     out_->energy.push_back(e.kinetic + e.gravity_potential + e.strain);
     out_->kinetic.push_back(e.kinetic);
     out_->violation.push_back(state_.max_constraint_violation().first);

@@ -14,6 +14,7 @@ struct Trajectory {
   std::unique_ptr<DofMap> dofs;
   std::vector<double> time;
   std::vector<std::vector<Vec3>> joints;  ///< [step][joint] positions
+  std::vector<std::vector<Mat3>> frames;  ///< [step][joint] orientations (joint -> inertial)
   std::vector<Vec3> joints0;              ///< joint positions of the initial model state
   std::vector<double> energy, kinetic;    ///< total (kinetic + gravity + strain) and kinetic
   std::vector<double> violation;          ///< max |g| over all constraints

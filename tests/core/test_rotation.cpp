@@ -138,6 +138,23 @@ TEST(Rotation, LogMapIsRobustNearZero) {
   }
 }
 
+TEST(Rotation, SmallRotationLogMapMatchesTheGeneralOneAndIsDifferentiable) {
+  using AD = Eigen::AutoDiffScalar<Eigen::Vector3d>;
+  for (double a : {0.0, 1e-9, 1e-3, 0.0099, 0.0101, 0.3, 1.2, 1.5}) {
+    const Vec3 phi = a * Vec3(0.3, -0.8, 0.52).normalized();
+    const Mat3 R = rotation_matrix(phi);
+    EXPECT_LT((small_rotation_vector<double>(R) - rotation_vector(R)).norm(), 1e-14 + 1e-13 * a) << a;
+    // d log(R exp(d)) / d d at 0 is T(phi)^{-1}: check the AD derivative against it.
+    Vec3T<AD> d;
+    for (int i = 0; i < 3; ++i) d(i) = AD(0.0, 3, i);
+    const Mat3T<AD> Rd = R.cast<AD>() * (Mat3T<AD>::Identity() + skew(d));
+    const Vec3T<AD> p = small_rotation_vector<AD>(Rd);
+    Mat3 J;
+    for (int i = 0; i < 3; ++i) J.row(i) = p(i).derivatives().transpose();
+    EXPECT_LT(max_abs(J - tangent_operator_inverse(phi)), 1e-10) << a;
+  }
+}
+
 TEST(Rotation, RescalingKeepsTheRotationAndBoundsTheAngle) {
   for (const Vec3& phi : sample_rotation_vectors()) {
     const Vec3 r = rescaled_rotation_vector(phi);

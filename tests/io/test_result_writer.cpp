@@ -393,7 +393,7 @@ TEST(ResultWriter, RoundTripOfThreeSteps) {
       ASSERT_TRUE(a >= 0 && a < 12 && b >= 0 && b < 12);
       std::vector<Vec3> expected;
       if (e >= 0) {
-        expected = model.elements[e].element->axis_points(s.element_slots(e));
+        expected = model.elements[e].element->axis_points(s.element_slots(e), s.context());
         EXPECT_EQ(body.v[l], model.elements[e].body);
         EXPECT_EQ(viz_axial.at({k, l}), *s.axial_force(e));
       } else {

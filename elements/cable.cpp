@@ -1,0 +1,162 @@
+// Rope element: tension-only elastic energy by AD, inertia and gravity in closed form with the
+// rest length and its rates from the drive.
+#include "elements/cable.hpp"
+
+#include "core/quadrature.hpp"
+#include "elements/energy_ad.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace latticedyn {
+
+namespace {
+
+using CableAD = EnergyAD<9>;  // d = r2 - r1 (0..2), r1' (3..5), r2' (6..8)
+
+Eigen::Matrix<double, 12, 9> energy_to_dofs() {
+  Eigen::Matrix<double, 12, 9> P = Eigen::Matrix<double, 12, 9>::Zero();
+  P.block<3, 3>(0, 0) = -Mat3::Identity();
+  P.block<3, 3>(3, 3) = Mat3::Identity();
+  P.block<3, 3>(6, 0) = Mat3::Identity();
+  P.block<3, 3>(9, 6) = Mat3::Identity();
+  return P;
+}
+
+// Unit Hermite functions on [0, 1] (slopes d/dxi) and their integrals.
+Eigen::Vector4d unit_hermite(double x) {
+  const double x2 = x * x, x3 = x2 * x;
+  return Eigen::Vector4d(1 - 3 * x2 + 2 * x3, x - 2 * x2 + x3, 3 * x2 - 2 * x3, x3 - x2);
+}
+const Eigen::Vector4d kHermiteIntegral(0.5, 1.0 / 12, 0.5, -1.0 / 12);
+
+}  // namespace
+
+void CableProperties::validate() const {
+  if (!(std::isfinite(material.density) && material.density > 0))
+    throw std::invalid_argument("rope density must be positive");
+  if (!(std::isfinite(material.youngs_modulus) && material.youngs_modulus > 0))
+    throw std::invalid_argument("rope Young's modulus must be positive");
+  if (!(section.area > 0)) throw std::invalid_argument("rope section area must be positive");
+  if (!drive && !(std::isfinite(rest_length) && rest_length > 0))
+    throw std::invalid_argument("rope rest length must be positive");
+  if (!(fraction > 0)) throw std::invalid_argument("rope length fraction must be positive");
+  if (gauss_points < 1 || gauss_points > 64) throw std::invalid_argument("rope Gauss points must be 1..64");
+}
+
+Cable::Cable(CableProperties p) : props_(std::move(p)) {
+  props_.validate();
+  rho_a_ = props_.section.effective_density(props_.material) * props_.section.area;
+  ea_ = props_.material.youngs_modulus * props_.section.area;
+  const GaussRule rule = gauss_legendre_on(props_.gauss_points, 0.0, 1.0);
+  xi_ = rule.points;
+  w_ = rule.weights;
+  // The mass integral of cubics times cubics is exact with 4 points.
+  hermite_mass_.setZero();
+  const GaussRule exact = gauss_legendre_on(4, 0.0, 1.0);
+  for (std::size_t g = 0; g < exact.points.size(); ++g) {
+    const Eigen::Vector4d h = unit_hermite(exact.points[g]);
+    hermite_mass_ += exact.weights[g] * h * h.transpose();
+  }
+}
+
+DriveValue Cable::rest_length(double t) const {
+  if (!props_.drive) return DriveValue{props_.rest_length, 0.0, 0.0};
+  const DriveValue v = props_.drive->evaluate(t);
+  return DriveValue{props_.fraction * v.value, props_.fraction * v.rate, props_.fraction * v.accel};
+}
+
+void Cable::inertia_and_gravity(std::span<const SlotState<double>> s, const ElementContext& ctx, Eigen::Ref<VecX> r,
+                                ElementTangents* t) const {
+  const DriveValue L = rest_length(ctx.time);
+  if (!(L.value > 0))
+    throw std::domain_error("rope rest length " + std::to_string(L.value) + " m at t = " + std::to_string(ctx.time) +
+                            " s is not positive");
+  const double m = rho_a_ * L.value;
+  // Hermite coordinates X = [r1, L0 r1', r2, L0 r2'] and their second time derivative.
+  const double c[4] = {1.0, L.value, 1.0, L.value};
+  Vec3 Xdd[4];
+  for (int k = 0; k < 4; ++k) {
+    const SlotState<double>& x = s[k];
+    Xdd[k] = (k % 2 == 0) ? x.acc : Vec3(L.value * x.acc + 2 * L.rate * x.vel + L.accel * x.pos);
+  }
+  for (int a = 0; a < 4; ++a) {
+    Vec3 f = -m * kHermiteIntegral(a) * ctx.gravity;
+    for (int b = 0; b < 4; ++b) f += m * hermite_mass_(a, b) * Xdd[b];
+    r.segment<3>(3 * a) = c[a] * f;
+  }
+  if (!t) return;
+  t->K.setZero();
+  t->C.setZero();
+  t->M.setZero();
+  for (int a = 0; a < 4; ++a)
+    for (int b = 0; b < 4; ++b) {
+      const double mab = m * hermite_mass_(a, b) * c[a];
+      t->M.block<3, 3>(3 * a, 3 * b) = mab * c[b] * Mat3::Identity();
+      if (b % 2 == 1) {
+        t->C.block<3, 3>(3 * a, 3 * b) = mab * 2 * L.rate * Mat3::Identity();
+        t->K.block<3, 3>(3 * a, 3 * b) = mab * L.accel * Mat3::Identity();
+      }
+    }
+}
+
+void Cable::residual(std::span<const SlotState<double>> s, const ElementContext& ctx, Eigen::Ref<VecX> r) const {
+  inertia_and_gravity(s, ctx, r, nullptr);
+  using F = CableAD::FirstOrder;
+  const double L0 = rest_length(ctx.time).value;
+  const auto U = strain_energy<F::S>(F::vec(s[2].pos - s[0].pos, 0), F::vec(s[1].pos, 3), F::vec(s[3].pos, 6), L0);
+  CableAD::Gradient g;
+  CableAD::extract(U, nullptr, &g);
+  static const Eigen::Matrix<double, 12, 9> P = energy_to_dofs();
+  r += P * g;
+}
+
+void Cable::tangents(std::span<const SlotState<double>> s, const ElementContext& ctx, ElementTangents& out) const {
+  out.resize(12);
+  inertia_and_gravity(s, ctx, out.residual, &out);
+  using F = CableAD::SecondOrder;
+  const double L0 = rest_length(ctx.time).value;
+  const auto U = strain_energy<F::S>(F::vec(s[2].pos - s[0].pos, 0), F::vec(s[1].pos, 3), F::vec(s[3].pos, 6), L0);
+  CableAD::Gradient g;
+  CableAD::Stiffness K;
+  CableAD::extract(U, nullptr, &g, &K);
+  static const Eigen::Matrix<double, 12, 9> P = energy_to_dofs();
+  out.residual += P * g;
+  out.K += P * K * P.transpose();
+}
+
+ElementEnergy Cable::energy(std::span<const SlotState<double>> s, const ElementContext& ctx) const {
+  const DriveValue L = rest_length(ctx.time);
+  const double m = rho_a_ * L.value;
+  Vec3 X[4], Xd[4];
+  for (int k = 0; k < 4; ++k) {
+    X[k] = k % 2 == 0 ? s[k].pos : Vec3(L.value * s[k].pos);
+    Xd[k] = k % 2 == 0 ? s[k].vel : Vec3(L.value * s[k].vel + L.rate * s[k].pos);
+  }
+  ElementEnergy e;
+  for (int a = 0; a < 4; ++a) {
+    e.gravity_potential -= m * kHermiteIntegral(a) * ctx.gravity.dot(X[a]);
+    for (int b = 0; b < 4; ++b) e.kinetic += 0.5 * m * hermite_mass_(a, b) * Xd[a].dot(Xd[b]);
+  }
+  e.strain = strain_energy<double>(s[2].pos - s[0].pos, s[1].pos, s[3].pos, L.value);
+  return e;
+}
+
+std::optional<double> Cable::axial_force(std::span<const SlotState<double>> s, const ElementContext& ctx) const {
+  const double L0 = rest_length(ctx.time).value;
+  // dr/dS at the middle, xi = 1/2: (1.5 (r2 - r1))/L0 - r1'/4 - r2'/4.
+  const Vec3 rs = 1.5 * (s[2].pos - s[0].pos) / L0 - 0.25 * (s[1].pos + s[3].pos);
+  return ea_ * std::max(rs.norm() - 1.0, 0.0);
+}
+
+std::vector<Vec3> Cable::axis_points(std::span<const SlotState<double>> s, const ElementContext& ctx) const {
+  const double L0 = rest_length(ctx.time).value;
+  std::vector<Vec3> pts;
+  for (int k = 0; k <= 4; ++k) {
+    const Eigen::Vector4d h = unit_hermite(k / 4.0);
+    pts.push_back(h(0) * s[0].pos + h(1) * L0 * s[1].pos + h(2) * s[2].pos + h(3) * L0 * s[3].pos);
+  }
+  return pts;
+}
+
+}  // namespace latticedyn

@@ -1,0 +1,91 @@
+// Cubic spline rope of thesis 7.2 / C.5 in absolute nodal coordinates [r1, r1', r2, r2']: axial
+// stress only, tension only (max(sigma, 0)), gravity, and a rest length that a drive may change
+// in time with the rope's mass following the length in the span.
+#pragma once
+
+#include "core/drive.hpp"
+#include "elements/element.hpp"
+#include "elements/section.hpp"
+
+#include <array>
+#include <optional>
+
+namespace latticedyn {
+
+struct CableProperties {
+  Material material;
+  SectionProperties section;
+  double rest_length = 0.0;     ///< L0 of this element when no drive is given
+  std::optional<Drive> drive;   ///< L0(t) = fraction * drive(t) when given (hoisting, luffing)
+  double fraction = 1.0;        ///< share of the driven length in this element (1/n for n elements)
+  int gauss_points = 4;         ///< Gauss-Legendre points along the element
+  void validate() const;
+};
+
+/// Slots: [translation r1, vector r1', translation r2, vector r2'], r' = dr/dS along the rest
+/// length S in [0, L0]. r(S) = H1 r1 + L0 H2 r1' + H3 r2 + L0 H4 r2' (cubic Hermite, A-9).
+/// Strain eps = |dr/dS| - 1 (C-150), stress E max(eps, 0) (7-1): strain energy
+/// U = EA L0/2 sum_g w_g max(eps_g, 0)^2, force and stiffness by automatic differentiation.
+/// Kinetic energy rho A L0/2 integral |r_dot|^2 dxi at fixed xi = S/L0: the mass is rho A L0(t),
+/// so paying rope out adds mass; with L0(t) driven, r_dot includes L0_dot H2 r1' and the
+/// accelerations L0_ddot and 2 L0_dot terms (the rope's axial transport through its ends is not
+/// modelled). Gravity as the consistent load of the cubic.
+class Cable final : public Element {
+ public:
+  /// Strains above -kSlackTolerance count as tension (round-off of an unstressed rope).
+  static constexpr double kSlackTolerance = 1e-12;
+
+  static constexpr std::array<SlotKind, 4> kSlots = {SlotKind::translation, SlotKind::vector,
+                                                      SlotKind::translation, SlotKind::vector};
+
+  explicit Cable(CableProperties p);
+
+  std::string_view type_name() const override { return "rope"; }
+  std::span<const SlotKind> slots() const override { return kSlots; }
+  void residual(std::span<const SlotState<double>> state, const ElementContext& ctx,
+                Eigen::Ref<VecX> r) const override;
+  void tangents(std::span<const SlotState<double>> state, const ElementContext& ctx,
+                ElementTangents& out) const override;
+  ElementEnergy energy(std::span<const SlotState<double>> state, const ElementContext& ctx) const override;
+  /// Tension at mid-element (tension only: never negative).
+  std::optional<double> axial_force(std::span<const SlotState<double>> state,
+                                    const ElementContext& ctx) const override;
+  std::vector<Vec3> axis_points(std::span<const SlotState<double>> state, const ElementContext& ctx) const override;
+
+  const CableProperties& properties() const { return props_; }
+  /// L0, dL0/dt, d2L0/dt2 at time t.
+  DriveValue rest_length(double t) const;
+  double mass(double t) const { return rho_a_ * rest_length(t).value; }
+
+  template <class S>
+  S strain_energy(const Vec3T<S>& d, const Vec3T<S>& t1, const Vec3T<S>& t2, double L0) const;
+
+ private:
+  void inertia_and_gravity(std::span<const SlotState<double>> s, const ElementContext& ctx, Eigen::Ref<VecX> r,
+                           ElementTangents* t) const;
+
+  CableProperties props_;
+  double rho_a_ = 0.0, ea_ = 0.0;
+  Eigen::Matrix4d hermite_mass_;  ///< integral_0^1 H_i H_j dxi of the unit Hermite functions
+  std::vector<double> xi_, w_;    ///< Gauss points on [0, 1]
+};
+
+template <class S>
+S Cable::strain_energy(const Vec3T<S>& d, const Vec3T<S>& t1, const Vec3T<S>& t2, double L0) const {
+  using std::sqrt;
+  S U(0.0);
+  for (std::size_t g = 0; g < xi_.size(); ++g) {
+    const double x = xi_[g], x2 = x * x;
+    // dr/dS = (dH1/dxi r1 + dH3/dxi r2)/L0 + dH2/dxi r1' + dH4/dxi r2'; dH3 = -dH1.
+    const double dh1 = 6 * x - 6 * x2, dh2 = 1 - 4 * x + 3 * x2, dh4 = 3 * x2 - 2 * x;
+    const Vec3T<S> rs = d * S(dh1 / L0) + t1 * S(dh2) + t2 * S(dh4);
+    const S eps = sqrt(rs.squaredNorm()) - S(1.0);
+    // Zero strain counts as tension, to round-off: an unstressed straight rope (the usual start)
+    // then has its axial stiffness at every Gauss point, instead of losing the points whose
+    // strain rounds to -1e-16 and with them the tangent's rank.
+    if (scalar_value(eps) >= -kSlackTolerance) U += S(0.5 * ea_ * L0 * w_[g]) * eps * eps;
+  }
+  return U;
+}
+
+}  // namespace latticedyn

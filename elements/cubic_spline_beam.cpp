@@ -1,0 +1,134 @@
+// Cubic spline beam: elastic force and stiffness from the Cardan-angle strain energy by AD, the
+// Hermite inertia and gravity through AutoDiffElement.
+#include "elements/cubic_spline_beam.hpp"
+
+#include "core/quadrature.hpp"
+#include "elements/energy_ad.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace latticedyn {
+
+namespace {
+
+// 11 energy variables: d = r2 - r1 (0..2), rotation 1 (3..5), s1 (6), rotation 2 (7..9), s2 (10),
+// mapped onto the 14 DoFs [r1, theta1, s1, r2, theta2, s2].
+using SplineAD = EnergyAD<11>;
+using Projection = Eigen::Matrix<double, 14, 11>;
+
+Projection energy_to_dofs() {
+  Projection P = Projection::Zero();
+  P.block<3, 3>(0, 0) = -Mat3::Identity();
+  P.block<3, 3>(3, 3) = Mat3::Identity();
+  P(6, 6) = 1.0;
+  P.block<3, 3>(7, 0) = Mat3::Identity();
+  P.block<3, 3>(10, 7) = Mat3::Identity();
+  P(13, 10) = 1.0;
+  return P;
+}
+
+Eigen::Vector4d unit_hermite(double x) {
+  const double x2 = x * x, x3 = x2 * x;
+  return Eigen::Vector4d(1 - 3 * x2 + 2 * x3, x - 2 * x2 + x3, 3 * x2 - 2 * x3, x3 - x2);
+}
+const Eigen::Vector4d kHermiteIntegral(0.5, 1.0 / 12, 0.5, -1.0 / 12);
+
+template <class AD>
+auto spline_energy(const CubicSplineBeam& beam, std::span<const SlotState<double>> s) {
+  return beam.strain_energy<typename AD::S>(AD::vec(s[3].pos - s[0].pos, 0), AD::rot(s[1].rot, 3),
+                                            AD::scalar(s[2].pos(0), 6), AD::rot(s[4].rot, 7),
+                                            AD::scalar(s[5].pos(0), 10));
+}
+
+}  // namespace
+
+void CubicSplineBeamProperties::validate() const {
+  beam.validate();
+  if (gauss_points < 1 || gauss_points > 64)
+    throw std::invalid_argument("cubic spline beam Gauss points must be 1..64");
+}
+
+CubicSplineBeam::CubicSplineBeam(const CubicSplineBeamProperties& p) : props_(p) {
+  props_.validate();
+  const Material& m = p.beam.material;
+  const SectionProperties& sec = p.beam.section;
+  L_ = p.beam.length;
+  const double rho = sec.effective_density(m);
+  rho_a_ = rho * sec.area;
+  rotary_ = 0.5 * rho * L_ * Vec3(sec.Iy + sec.Iz, sec.Iy, sec.Iz);
+  ea_ = m.youngs_modulus * sec.area;
+  stiffness_ = Vec3(m.shear_modulus() * sec.torsion_constant, m.youngs_modulus * sec.Iy, m.youngs_modulus * sec.Iz);
+  const GaussRule rule = gauss_legendre_on(props_.gauss_points, 0.0, 1.0);
+  xi_ = rule.points;
+  w_ = rule.weights;
+  hermite_mass_.setZero();
+  const GaussRule exact = gauss_legendre_on(4, 0.0, 1.0);  // cubic x cubic is exact with 4 points
+  for (std::size_t g = 0; g < exact.points.size(); ++g) {
+    const Eigen::Vector4d h = unit_hermite(exact.points[g]);
+    hermite_mass_ += exact.weights[g] * h * h.transpose();
+  }
+}
+
+void CubicSplineBeam::residual(std::span<const SlotState<double>> s, const ElementContext& ctx,
+                               Eigen::Ref<VecX> r) const {
+  AutoDiffElement::residual(s, ctx, r);
+  SplineAD::Gradient g;
+  SplineAD::extract(spline_energy<SplineAD::FirstOrder>(*this, s), nullptr, &g);
+  static const Projection P = energy_to_dofs();
+  r += P * g;
+}
+
+void CubicSplineBeam::tangents(std::span<const SlotState<double>> s, const ElementContext& ctx,
+                               ElementTangents& out) const {
+  AutoDiffElement::tangents(s, ctx, out);
+  SplineAD::Gradient g;
+  SplineAD::Stiffness K;
+  SplineAD::extract(spline_energy<SplineAD::SecondOrder>(*this, s), nullptr, &g, &K);
+  static const Projection P = energy_to_dofs();
+  out.residual += P * g;
+  out.K += P * K * P.transpose();
+}
+
+ElementEnergy CubicSplineBeam::energy(std::span<const SlotState<double>> s, const ElementContext& ctx) const {
+  const Vec3 ex = Vec3::UnitX();
+  const double m = rho_a_ * L_;
+  Vec3 X[4], Xd[4];
+  for (int e = 0; e < 2; ++e) {
+    const SlotState<double>& rot = s[1 + 3 * e];
+    const double sv = s[2 + 3 * e].pos(0), sd = s[2 + 3 * e].vel(0);
+    X[2 * e] = s[3 * e].pos;
+    Xd[2 * e] = s[3 * e].vel;
+    X[2 * e + 1] = L_ * sv * (rot.rot * ex);
+    Xd[2 * e + 1] = L_ * (rot.rot * (sd * ex + sv * rot.vel.cross(ex)));
+  }
+  ElementEnergy out;
+  for (int a = 0; a < 4; ++a) {
+    out.gravity_potential -= m * kHermiteIntegral(a) * ctx.gravity.dot(X[a]);
+    for (int b = 0; b < 4; ++b) out.kinetic += 0.5 * m * hermite_mass_(a, b) * Xd[a].dot(Xd[b]);
+  }
+  for (int e = 0; e < 2; ++e) {
+    const Vec3& w = s[1 + 3 * e].vel;
+    out.kinetic += 0.5 * w.dot(rotary_.asDiagonal() * w);
+  }
+  out.strain = strain_energy<double>(s[3].pos - s[0].pos, s[1].rot, s[2].pos(0), s[4].rot, s[5].pos(0));
+  return out;
+}
+
+std::optional<double> CubicSplineBeam::axial_force(std::span<const SlotState<double>> s, const ElementContext&) const {
+  // r'(1/2) = 1.5 (r2 - r1)/L - t1/(4L) - t2/(4L) with t = L s R e_x.
+  const Vec3 rp = 1.5 * (s[3].pos - s[0].pos) / L_ - 0.25 * (s[2].pos(0) * s[1].rot.col(0) + s[5].pos(0) * s[4].rot.col(0));
+  return ea_ * (rp.norm() - 1.0);
+}
+
+std::vector<Vec3> CubicSplineBeam::axis_points(std::span<const SlotState<double>> s, const ElementContext&) const {
+  const Vec3 t1 = L_ * s[2].pos(0) * s[1].rot.col(0), t2 = L_ * s[5].pos(0) * s[4].rot.col(0);
+  std::vector<Vec3> pts;
+  for (int k = 0; k <= 4; ++k) {
+    const Eigen::Vector4d h = unit_hermite(k / 4.0);
+    pts.push_back(h(0) * s[0].pos + h(1) * t1 + h(2) * s[3].pos + h(3) * t2);
+  }
+  return pts;
+}
+
+}  // namespace latticedyn
