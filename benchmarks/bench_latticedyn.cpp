@@ -1,11 +1,16 @@
-// Google Benchmark timings: element evaluation (residual, and residual with all tangents by AD),
-// constraint evaluation at first and second order, and on a ~1000-bar space truss the global
-// residual, the global Jacobian and one implicit generalized-alpha step per direct solver.
+// Google Benchmark timings: element evaluation (residual, and residual with all tangents by AD)
+// for every element type, constraint evaluation at first and second order, one implicit step of
+// a 10-segment cantilever per beam type, and on a ~1000-bar space truss the global residual, the
+// global Jacobian and one implicit generalized-alpha step per direct solver.
 // Results and the command are recorded in docs/performance.md; tests never assert times.
 #include "assembly/constraint_evaluator.hpp"
 #include "assembly/system_assembler.hpp"
+#include "elements/cable.hpp"
+#include "elements/cubic_spline_beam.hpp"
 #include "elements/rigid_body.hpp"
 #include "elements/strut_tie.hpp"
+#include "elements/timoshenko_beam.hpp"
+#include "io/model_reader.hpp"
 #include "space_truss_model.hpp"
 #include "timestepping/generalized_alpha.hpp"
 
@@ -17,38 +22,58 @@
 namespace latticedyn {
 namespace {
 
-std::vector<SlotState<double>> random_slots(const Element& e, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u(-1, 1);
-  std::vector<SlotState<double>> s(e.slots().size());
-  for (auto& x : s) {
-    x.pos = Vec3(u(rng), u(rng), u(rng));
-    x.rot = rotation_matrix<double>(Vec3(u(rng), u(rng), u(rng)));
-    x.vel = Vec3(u(rng), u(rng), u(rng));
-    x.acc = Vec3(u(rng), u(rng), u(rng));
-  }
-  return s;
-}
+enum ElementKind { kRigidBody, kStrutTie, kTimoshenkoBeam, kCubicSplineBeam, kRope, kElementKinds };
 
 std::unique_ptr<Element> make(int kind) {
-  if (kind == 0) {
+  const Material steel{7800, 2.06e11, 0.3};
+  if (kind == kRigidBody) {
     RigidBodyProperties p;
     p.mass = 10;
     p.centroid = Vec3(0.5, 0.1, 0);
     p.inertia_centroid = Vec3(1, 2, 2.5).asDiagonal();
     return std::make_unique<RigidBody>(p);
   }
-  StrutTieProperties p;
-  p.material = Material{7800, 2.06e11, 0.3};
-  p.section = round_tube_section(0.05, 0.04);
-  p.rest_length = 1.5;
-  p.smoothing = 1e-3;
-  return std::make_unique<StrutTie>(p);
+  if (kind == kStrutTie) {
+    StrutTieProperties p;
+    p.material = steel;
+    p.section = round_tube_section(0.05, 0.04);
+    p.rest_length = 1.5;
+    p.smoothing = 1e-3;
+    return std::make_unique<StrutTie>(p);
+  }
+  BeamProperties beam{steel, round_tube_section(0.05, 0.04), 1.5, 0.0};
+  if (kind == kTimoshenkoBeam) return std::make_unique<TimoshenkoBeam>(beam);
+  if (kind == kCubicSplineBeam) return std::make_unique<CubicSplineBeam>(CubicSplineBeamProperties{beam, 5});
+  CableProperties rope;
+  rope.material = steel;
+  rope.section = round_tube_section(0.01, 0.0);
+  rope.drive = Drive::Sine{2.0, 0.1, 0.0, 10.0};  // a rest length in motion: all inertia terms on
+  rope.fraction = 0.1;
+  return std::make_unique<Cable>(rope);
+}
+
+// A deformed state near the element's reference (axis along x, length 1.5 m), moving.
+std::vector<SlotState<double>> deformed_slots(const Element& e, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-1, 1);
+  auto v3 = [&] { return Vec3(u(rng), u(rng), u(rng)); };
+  const auto kinds = e.slots();
+  std::vector<SlotState<double>> s(kinds.size());
+  int translation = 0;
+  for (std::size_t k = 0; k < s.size(); ++k) {
+    s[k].vel = v3();
+    s[k].acc = v3();
+    s[k].rot = rotation_matrix<double>(0.1 * v3());
+    if (kinds[k] == SlotKind::translation) s[k].pos = Vec3(1.5 * translation++, 0, 0) + 0.01 * v3();
+    if (kinds[k] == SlotKind::vector) s[k].pos = Vec3(1.001, 0, 0) + 0.01 * v3();
+    if (kinds[k] == SlotKind::scalar) s[k].pos = Vec3(1.0 + 0.001 * u(rng), 0, 0);
+  }
+  return s;
 }
 
 void BM_ElementResidual(benchmark::State& st) {
   const auto e = make(static_cast<int>(st.range(0)));
-  const auto s = random_slots(*e, 1);
+  const auto s = deformed_slots(*e, 1);
   VecX r(e->num_dofs());
   const ElementContext ctx{Vec3(0, 0, -9.81), 0};
   for (auto _ : st) {
@@ -57,11 +82,11 @@ void BM_ElementResidual(benchmark::State& st) {
   }
   st.SetLabel(std::string(e->type_name()));
 }
-BENCHMARK(BM_ElementResidual)->Arg(0)->Arg(1);
+BENCHMARK(BM_ElementResidual)->DenseRange(0, kElementKinds - 1);
 
 void BM_ElementTangents(benchmark::State& st) {
   const auto e = make(static_cast<int>(st.range(0)));
-  const auto s = random_slots(*e, 2);
+  const auto s = deformed_slots(*e, 2);
   ElementTangents t;
   const ElementContext ctx{Vec3(0, 0, -9.81), 0};
   for (auto _ : st) {
@@ -70,7 +95,7 @@ void BM_ElementTangents(benchmark::State& st) {
   }
   st.SetLabel(std::string(e->type_name()) + " residual + K, C, M");
 }
-BENCHMARK(BM_ElementTangents)->Arg(0)->Arg(1);
+BENCHMARK(BM_ElementTangents)->DenseRange(0, kElementKinds - 1);
 
 // A revolute joint between two free rigid bodies: G alone (residuals) and with dG/dq (Jacobians).
 void BM_ConstraintRevolute(benchmark::State& st) {
@@ -81,7 +106,7 @@ void BM_ConstraintRevolute(benchmark::State& st) {
     const int body = b.add_body(name, "rigid_body");
     const int t = b.add_block(DofBlock::translation(Vec3(k, 0, 0), Vec3::Zero(), "t"));
     const int r = b.add_block(DofBlock::rotation(rotation_matrix<double>(Vec3(0.1 * k, 0.2, 0.3)), Vec3::Zero(), "r"));
-    b.add_element(body, make(0), {{t}, {r}});
+    b.add_element(body, make(kRigidBody), {{t}, {r}});
     Joint j;
     j.name = name + ".j";
     j.translation_block = t;
@@ -112,6 +137,51 @@ void BM_ConstraintRevolute(benchmark::State& st) {
   st.SetLabel(st.range(0) == 1 ? "g, G and d(G^T lambda)/dq (nested AD)" : "g and G (first-order AD)");
 }
 BENCHMARK(BM_ConstraintRevolute)->Arg(0)->Arg(1);
+
+// One generalized-alpha step of the beam of thesis Table 8-1 (L = 15 m, solid r = 0.15 m) as a
+// 10-segment cantilever swinging under its weight (the self-weight study), per beam type.
+void BM_CantileverImplicitStep(benchmark::State& st) {
+  const std::string type = st.range(0) == 0 ? "cubic_spline_beam" : "timoshenko_beam";
+  const Simulation sim = read_simulation_from_string(R"(gravity: [0, 0, -9.81]
+materials: {steel: {density: 7800, youngs_modulus: 2.06e11, poisson_ratio: 0.25}}
+sections: {solid: {type: round_tube, outer_radius: 0.15}}
+ground: {joints: [{name: clamp}]}
+bodies:
+  - {name: beam, type: )" + type + R"(, material: steel, section: solid, ends: [[0, 0, 0], [15, 0, 0]], elements: 10}
+constraints:
+  - {name: clamp, type: fixed, joints: [ground.clamp, beam.1]}
+)",
+                                                     "cantilever.yaml");
+  SystemAssembler sa(sim.model, PETSC_COMM_WORLD);
+  Vec U, V;
+  sa.create_vector(&U);
+  sa.create_vector(&V);
+  sa.initial_state(U, V);
+  DynamicSettings s;
+  s.t_end = 1e6;
+  s.time_step = 4e-3;
+  s.rho_infinity = 1.0;
+  GeneralizedAlphaIntegrator integrator(sa, s);
+  TS ts = integrator.ts();
+  TS2SetSolution(ts, U, V);
+  TSSetUp(ts);
+  TSRestartStep(ts);
+  TSStep(ts);
+  PetscInt its0;
+  TSGetSNESIterations(ts, &its0);
+  long steps = 0;
+  for (auto _ : st) {
+    TSStep(ts);
+    ++steps;
+  }
+  PetscInt its;
+  TSGetSNESIterations(ts, &its);
+  st.counters["newton_per_step"] = static_cast<double>(its - its0) / static_cast<double>(std::max(1L, steps));
+  st.SetLabel(type + ", 10 segments, " + std::to_string(sa.dofs().global_size()) + " unknowns");
+  VecDestroy(&U);
+  VecDestroy(&V);
+}
+BENCHMARK(BM_CantileverImplicitStep)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 
 // The space truss, assembled once per benchmark.
 struct Truss {

@@ -102,9 +102,9 @@ void Cable::inertia_and_gravity(std::span<const SlotState<double>> s, const Elem
 
 void Cable::residual(std::span<const SlotState<double>> s, const ElementContext& ctx, Eigen::Ref<VecX> r) const {
   inertia_and_gravity(s, ctx, r, nullptr);
-  using F = CableAD::FirstOrder;
+  CableAD::FirstOrder ad;
   const double L0 = rest_length(ctx.time).value;
-  const auto U = strain_energy<F::S>(F::vec(s[2].pos - s[0].pos, 0), F::vec(s[1].pos, 3), F::vec(s[3].pos, 6), L0);
+  const auto U = strain_energy<decltype(ad)::S>(ad.vec(s[2].pos - s[0].pos, 0), ad.vec(s[1].pos, 3), ad.vec(s[3].pos, 6), L0);
   CableAD::Gradient g;
   CableAD::extract(U, nullptr, &g);
   static const Eigen::Matrix<double, 12, 9> P = energy_to_dofs();
@@ -114,12 +114,12 @@ void Cable::residual(std::span<const SlotState<double>> s, const ElementContext&
 void Cable::tangents(std::span<const SlotState<double>> s, const ElementContext& ctx, ElementTangents& out) const {
   out.resize(12);
   inertia_and_gravity(s, ctx, out.residual, &out);
-  using F = CableAD::SecondOrder;
+  CableAD::SecondOrder ad;
   const double L0 = rest_length(ctx.time).value;
-  const auto U = strain_energy<F::S>(F::vec(s[2].pos - s[0].pos, 0), F::vec(s[1].pos, 3), F::vec(s[3].pos, 6), L0);
+  const auto U = strain_energy<decltype(ad)::S>(ad.vec(s[2].pos - s[0].pos, 0), ad.vec(s[1].pos, 3), ad.vec(s[3].pos, 6), L0);
   CableAD::Gradient g;
   CableAD::Stiffness K;
-  CableAD::extract(U, nullptr, &g, &K);
+  CableAD::extract(U, ad, nullptr, &g, &K);
   static const Eigen::Matrix<double, 12, 9> P = energy_to_dofs();
   out.residual += P * g;
   out.K += P * K * P.transpose();

@@ -78,12 +78,12 @@ S Cable::strain_energy(const Vec3T<S>& d, const Vec3T<S>& t1, const Vec3T<S>& t2
     const double x = xi_[g], x2 = x * x;
     // dr/dS = (dH1/dxi r1 + dH3/dxi r2)/L0 + dH2/dxi r1' + dH4/dxi r2'; dH3 = -dH1.
     const double dh1 = 6 * x - 6 * x2, dh2 = 1 - 4 * x + 3 * x2, dh4 = 3 * x2 - 2 * x;
-    const Vec3T<S> rs = d * S(dh1 / L0) + t1 * S(dh2) + t2 * S(dh4);
-    const S eps = sqrt(rs.squaredNorm()) - S(1.0);
+    const Vec3T<S> rs = d * (dh1 / L0) + t1 * dh2 + t2 * dh4;  // constants as doubles: cheap AD products
+    const S eps = sqrt(rs.squaredNorm()) - 1.0;
     // Zero strain counts as tension, to round-off: an unstressed straight rope (the usual start)
     // then has its axial stiffness at every Gauss point, instead of losing the points whose
     // strain rounds to -1e-16 and with them the tangent's rank.
-    if (scalar_value(eps) >= -kSlackTolerance) U += S(0.5 * ea_ * L0 * w_[g]) * eps * eps;
+    if (scalar_value(eps) >= -kSlackTolerance) U += (eps * eps) * (0.5 * ea_ * L0 * w_[g]);
   }
   return U;
 }

@@ -34,11 +34,11 @@ Eigen::Vector4d unit_hermite(double x) {
 }
 const Eigen::Vector4d kHermiteIntegral(0.5, 1.0 / 12, 0.5, -1.0 / 12);
 
-template <class AD>
-auto spline_energy(const CubicSplineBeam& beam, std::span<const SlotState<double>> s) {
-  return beam.strain_energy<typename AD::S>(AD::vec(s[3].pos - s[0].pos, 0), AD::rot(s[1].rot, 3),
-                                            AD::scalar(s[2].pos(0), 6), AD::rot(s[4].rot, 7),
-                                            AD::scalar(s[5].pos(0), 10));
+template <class Seeds>
+auto spline_energy(const CubicSplineBeam& beam, std::span<const SlotState<double>> s, Seeds& ad) {
+  return beam.strain_energy<typename Seeds::S>(ad.vec(s[3].pos - s[0].pos, 0), ad.rot(s[1].rot, 3),
+                                               ad.scalar(s[2].pos(0), 6), ad.rot(s[4].rot, 7),
+                                               ad.scalar(s[5].pos(0), 10));
 }
 
 }  // namespace
@@ -74,7 +74,8 @@ void CubicSplineBeam::residual(std::span<const SlotState<double>> s, const Eleme
                                Eigen::Ref<VecX> r) const {
   AutoDiffElement::residual(s, ctx, r);
   SplineAD::Gradient g;
-  SplineAD::extract(spline_energy<SplineAD::FirstOrder>(*this, s), nullptr, &g);
+  SplineAD::FirstOrder ad;
+  SplineAD::extract(spline_energy(*this, s, ad), nullptr, &g);
   static const Projection P = energy_to_dofs();
   r += P * g;
 }
@@ -84,7 +85,9 @@ void CubicSplineBeam::tangents(std::span<const SlotState<double>> s, const Eleme
   AutoDiffElement::tangents(s, ctx, out);
   SplineAD::Gradient g;
   SplineAD::Stiffness K;
-  SplineAD::extract(spline_energy<SplineAD::SecondOrder>(*this, s), nullptr, &g, &K);
+  SplineAD::SecondOrder ad;
+  const auto U = spline_energy(*this, s, ad);
+  SplineAD::extract(U, ad, nullptr, &g, &K);
   static const Projection P = energy_to_dofs();
   out.residual += P * g;
   out.K += P * K * P.transpose();

@@ -105,32 +105,35 @@ S CubicSplineBeam::strain_energy(const Vec3T<S>& d, const Mat3T<S>& R1, const S&
   using std::cos;
   using std::sin;
   using std::sqrt;
+  // Constants multiply as doubles: a product with S(constant) would cost a full AD product.
   const double L = L_;
-  const Vec3T<S> t1 = R1.col(0) * (s1 * S(L)), t2 = R2.col(0) * (s2 * S(L));
+  const Vec3T<S> t1 = R1.col(0) * (s1 * L), t2 = R2.col(0) * (s2 * L);
   const Mat3T<S> R12 = R1.transpose() * R2;
   const S phi12 = atan2(R12(2, 1), R12(2, 2));
   S U(0.0);
   for (std::size_t g = 0; g < xi_.size(); ++g) {
     const double x = xi_[g], x2 = x * x;
-    const Vec3T<S> rp = (d * S(6 * x - 6 * x2) + t1 * S(1 - 4 * x + 3 * x2) + t2 * S(3 * x2 - 2 * x)) / S(L);
-    const Vec3T<S> rpp = (d * S(6 - 12 * x) + t1 * S(6 * x - 4) + t2 * S(6 * x - 2)) / S(L * L);
+    const Vec3T<S> rp = d * ((6 * x - 6 * x2) / L) + t1 * ((1 - 4 * x + 3 * x2) / L) + t2 * ((3 * x2 - 2 * x) / L);
+    const Vec3T<S> rpp = d * ((6 - 12 * x) / (L * L)) + t1 * ((6 * x - 4) / (L * L)) + t2 * ((6 * x - 2) / (L * L));
     const S len = sqrt(rp.squaredNorm());
-    const Vec3T<S> n = rp / len;
-    const Vec3T<S> n_s = (rpp - n * n.dot(rpp)) / len;  // dn/ds
+    const S inv_len = 1.0 / len;
+    const Vec3T<S> n = rp * inv_len;
+    const Vec3T<S> n_s = (rpp - n * n.dot(rpp)) * inv_len;  // dn/ds
     const Vec3T<S> m = R1.transpose() * n, m_s = R1.transpose() * n_s;
     const S cos_psi = sqrt(m(0) * m(0) + m(1) * m(1));
     const S psi = atan2(-m(2), cos_psi);
-    const S psi_s = -m_s(2) / cos_psi;
-    const S theta_s = (m(0) * m_s(1) - m(1) * m_s(0)) / (cos_psi * cos_psi);
-    const S phi = S(x) * phi12, phi_s = phi12 / S(L);
+    const S inv_cos_psi = 1.0 / cos_psi;
+    const S psi_s = -m_s(2) * inv_cos_psi;
+    const S theta_s = (m(0) * m_s(1) - m(1) * m_s(0)) * (inv_cos_psi * inv_cos_psi);
+    const S phi = phi12 * x, phi_s = phi12 * (1.0 / L);
     const S sf = sin(phi), cf = cos(phi), sp = sin(psi), cp = cos(psi);
     // kappa = T(phi, psi) [phi', psi', theta']^T, T of (B-19) rederived (core/rotation.hpp).
     const S kx = phi_s - sp * theta_s;
     const S ky = cf * psi_s + sf * cp * theta_s;
     const S kz = -sf * psi_s + cf * cp * theta_s;
-    const S eps = len - S(1);
-    U += S(0.5 * L * w_[g]) * (S(ea_) * eps * eps + S(stiffness_(0)) * kx * kx + S(stiffness_(1)) * ky * ky +
-                                S(stiffness_(2)) * kz * kz);
+    const S eps = len - 1.0;
+    U += ((eps * eps) * ea_ + (kx * kx) * stiffness_(0) + (ky * ky) * stiffness_(1) + (kz * kz) * stiffness_(2)) *
+         (0.5 * L * w_[g]);
   }
   return U;
 }

@@ -1,78 +1,83 @@
 // Gradient and stiffness of an elastic energy by forward automatic differentiation: an element
-// writes its strain energy once, templated on the scalar, and gets the internal force (first
-// order) and the tangent (nested, second order) from it.
+// writes its strain energy once, templated on the scalar, and gets the internal force (Dual,
+// first order) and the tangent (HyperDual, second order) from it.
 #pragma once
 
+#include "core/dual.hpp"
 #include "core/rotation.hpp"
 
-#include <unsupported/Eigen/AutoDiff>
+#include <array>
 
 namespace latticedyn {
 
-/// NV perturbation variables, seeded on the element's position-level quantities: an additive
-/// quantity x becomes x + delta (first order) or x + eps + delta (second order); a rotation R
-/// becomes R (I + skew(delta)) or R (I + skew(eps)) (I + skew(delta)). The gradient is then
-/// dU/d(delta) at 0 (the internal force in the elements' right-perturbed variables) and the
-/// stiffness K(i, j) = d/d(eps_j) dU/d(delta_i), the derivative of that force with respect to a
-/// perturbation of the state — with the eps-delta cross term of rotations that makes it right.
+/// NV perturbation variables, seeded on the element's position-level quantities. An additive
+/// quantity x becomes x + delta. A rotation R becomes R exp(skew(delta)), to the order the
+/// number type carries; the gradient is then dU/d(delta) at 0, the internal force in the right-
+/// perturbed variables of the elements. The stiffness K(i, j) is the derivative of force i with
+/// respect to a right perturbation j of the state: the symmetric Hessian of U(R exp(skew(delta)))
+/// plus, on the diagonal block of each rotation, skew(g)/2 (g that rotation's gradient), the
+/// part of R (I + skew(eps)) (I + skew(delta)) that the symmetric exponential does not carry.
 template <int NV>
 struct EnergyAD {
-  using Inner = Eigen::AutoDiffScalar<Eigen::Matrix<double, NV, 1>>;
-  using Outer = Eigen::AutoDiffScalar<Eigen::Matrix<Inner, NV, 1>>;
   using Gradient = Eigen::Matrix<double, NV, 1>;
   using Stiffness = Eigen::Matrix<double, NV, NV>;
 
-  struct FirstOrder {
-    using S = Inner;
-    static S constant(double x) { return S(x); }
-    static S scalar(double x, int col) { return S(x, NV, col); }
-    static Vec3T<S> vec(const Vec3& x, int col) {
-      Vec3T<S> v;
-      for (int i = 0; i < 3; ++i) v(i) = scalar(x(i), col + i);
-      return v;
+  template <class Number>
+  struct Seeds {
+    using S = Number;
+    S scalar(double x, int col) const { return S::variable(x, col); }
+    Vec3T<S> vec(const Vec3& x, int col) const {
+      return Vec3T<S>(S::variable(x(0), col), S::variable(x(1), col + 1), S::variable(x(2), col + 2));
     }
-    static Mat3T<S> rot(const Mat3& R, int col) {
-      Vec3T<S> d;
-      for (int i = 0; i < 3; ++i) d(i) = scalar(0.0, col + i);
-      return R.cast<S>() * (Mat3T<S>::Identity() + skew(d));
-    }
-  };
-
-  struct SecondOrder {
-    using S = Outer;
-    static S constant(double x) { return S(Inner(x)); }
-    static S scalar(double x, int col) {
-      S s(Inner(x, NV, col));
-      s.derivatives()(col) = Inner(1.0);
-      return s;
-    }
-    static Vec3T<S> vec(const Vec3& x, int col) {
-      Vec3T<S> v;
-      for (int i = 0; i < 3; ++i) v(i) = scalar(x(i), col + i);
-      return v;
-    }
-    static Mat3T<S> rot(const Mat3& R, int col) {
-      Vec3T<S> eps, delta;
-      for (int i = 0; i < 3; ++i) {
-        eps(i) = S(Inner(0.0));
-        eps(i).derivatives()(col + i) = Inner(1.0);
-        delta(i) = S(Inner(0.0, NV, col + i));
+    /// R exp(skew(x)) = R + R skew(x) + R skew(x)^2 / 2 + ...: entries with value R, gradient
+    /// R skew(e_m) and (second order) Hessian R (skew(e_m) skew(e_n) + skew(e_n) skew(e_m)) / 2,
+    /// filled in directly (a product of HyperDual matrices would cost ten times more).
+    Mat3T<S> rot(const Mat3& R, int col) {
+      rotations_[count_++] = col;
+      Mat3 dR[3], Sm[3];
+      for (int m = 0; m < 3; ++m) {
+        Sm[m] = skew(Vec3(Vec3::Unit(m)));
+        dR[m] = R * Sm[m];
       }
-      return R.cast<Inner>().template cast<S>() * (Mat3T<S>::Identity() + skew(eps)) *
-             (Mat3T<S>::Identity() + skew(delta));
+      Mat3T<S> out;
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) {
+          S e(R(i, j));
+          for (int m = 0; m < 3; ++m) e.g[col + m] = dR[m](i, j);
+          out(i, j) = e;
+        }
+      if constexpr (std::is_same_v<Number, HyperDual<NV>>) {
+        for (int m = 0; m < 3; ++m)
+          for (int n = m; n < 3; ++n) {
+            const Mat3 H = 0.5 * R * (Sm[m] * Sm[n] + Sm[n] * Sm[m]);
+            for (int i = 0; i < 3; ++i)
+              for (int j = 0; j < 3; ++j) out(i, j).h[S::packed(col + m, col + n)] = H(i, j);
+          }
+      }
+      return out;
     }
+    std::array<int, NV / 3 + 1> rotations_{};
+    int count_ = 0;
   };
+  using FirstOrder = Seeds<Dual<NV>>;
+  using SecondOrder = Seeds<HyperDual<NV>>;
 
-  static void extract(const Inner& U, double* value, Gradient* grad) {
-    if (value) *value = U.value();
-    if (grad) *grad = U.derivatives().size() ? Gradient(U.derivatives()) : Gradient::Zero();
+  static void extract(const Dual<NV>& U, double* value, Gradient* grad) {
+    if (value) *value = U.v;
+    if (grad)
+      for (int i = 0; i < NV; ++i) (*grad)(i) = U.g[i];
   }
-  static void extract(const Outer& U, double* value, Gradient* grad, Stiffness* K) {
-    extract(U.value(), value, grad);
+  static void extract(const HyperDual<NV>& U, const SecondOrder& seeds, double* value, Gradient* grad, Stiffness* K) {
+    if (value) *value = U.v;
+    if (grad)
+      for (int i = 0; i < NV; ++i) (*grad)(i) = U.g[i];
     if (!K) return;
-    for (int j = 0; j < NV; ++j) {
-      const Inner& dj = U.derivatives()(j);
-      for (int i = 0; i < NV; ++i) (*K)(i, j) = dj.derivatives().size() ? dj.derivatives()(i) : 0.0;
+    for (int i = 0; i < NV; ++i)
+      for (int j = 0; j < NV; ++j) (*K)(i, j) = U.hessian(i, j);
+    for (int r = 0; r < seeds.count_; ++r) {
+      const int c = seeds.rotations_[r];
+      const Vec3 g(U.g[c], U.g[c + 1], U.g[c + 2]);
+      K->template block<3, 3>(c, c) += 0.5 * skew(g);
     }
   }
 };

@@ -80,8 +80,8 @@ void TimoshenkoBeam::inertia(std::span<const SlotState<double>> s, const Element
 
 void TimoshenkoBeam::residual(std::span<const SlotState<double>> s, const ElementContext& ctx, Eigen::Ref<VecX> r) const {
   inertia(s, ctx, r, nullptr);
-  using F = BeamAD::FirstOrder;
-  const auto U = strain_energy<F::S>(F::vec(s[2].pos - s[0].pos, 0), F::rot(s[1].rot, 3), F::rot(s[3].rot, 6));
+  BeamAD::FirstOrder ad;
+  const auto U = strain_energy<decltype(ad)::S>(ad.vec(s[2].pos - s[0].pos, 0), ad.rot(s[1].rot, 3), ad.rot(s[3].rot, 6));
   BeamAD::Gradient g;
   BeamAD::extract(U, nullptr, &g);
   static const Eigen::Matrix<double, 12, 9> P = energy_to_dofs();
@@ -91,11 +91,11 @@ void TimoshenkoBeam::residual(std::span<const SlotState<double>> s, const Elemen
 void TimoshenkoBeam::tangents(std::span<const SlotState<double>> s, const ElementContext& ctx, ElementTangents& out) const {
   out.resize(12);
   inertia(s, ctx, out.residual, &out);
-  using F = BeamAD::SecondOrder;
-  const auto U = strain_energy<F::S>(F::vec(s[2].pos - s[0].pos, 0), F::rot(s[1].rot, 3), F::rot(s[3].rot, 6));
+  BeamAD::SecondOrder ad;
+  const auto U = strain_energy<decltype(ad)::S>(ad.vec(s[2].pos - s[0].pos, 0), ad.rot(s[1].rot, 3), ad.rot(s[3].rot, 6));
   BeamAD::Gradient g;
   BeamAD::Stiffness K;
-  BeamAD::extract(U, nullptr, &g, &K);
+  BeamAD::extract(U, ad, nullptr, &g, &K);
   static const Eigen::Matrix<double, 12, 9> P = energy_to_dofs();
   out.residual += P * g;
   out.K += P * K * P.transpose();

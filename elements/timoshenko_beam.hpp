@@ -76,17 +76,18 @@ template <class S>
 void TimoshenkoBeam::local_deformation(const Vec3T<S>& d, const Mat3T<S>& R1, const Mat3T<S>& R2, S& u,
                                        Vec3T<S>& th1, Vec3T<S>& th2, Mat3T<S>* Rr_out) const {
   using std::sqrt;
+  // Constants multiply as doubles: a product with S(constant) would cost a full AD product.
   const S l = sqrt(d.squaredNorm());
-  const Vec3T<S> e1 = d / l;
-  const Vec3T<S> q = (R1.col(1) + R2.col(1)) * S(0.5);
+  const Vec3T<S> e1 = d * (1.0 / l);
+  const Vec3T<S> q = (R1.col(1) + R2.col(1)) * 0.5;
   Vec3T<S> e3 = e1.cross(q);
-  e3 /= sqrt(e3.squaredNorm());
+  e3 *= 1.0 / sqrt(e3.squaredNorm());
   const Vec3T<S> e2 = e3.cross(e1);
   Mat3T<S> Rr;
   Rr.col(0) = e1;
   Rr.col(1) = e2;
   Rr.col(2) = e3;
-  u = l - S(props_.length);
+  u = l - props_.length;
   th1 = small_rotation_vector<S>(Rr.transpose() * R1);
   th2 = small_rotation_vector<S>(Rr.transpose() * R2);
   if (Rr_out) *Rr_out = Rr;
@@ -98,10 +99,9 @@ S TimoshenkoBeam::strain_energy(const Vec3T<S>& d, const Mat3T<S>& R1, const Mat
   Vec3T<S> a, b;
   local_deformation<S>(d, R1, R2, u, a, b, nullptr);
   const S twist = b(0) - a(0);
-  const S half(0.5);
-  return half * S(ea_) * u * u + half * S(gj_) * twist * twist +
-         half * (S(kz_[0]) * (a(2) * a(2) + b(2) * b(2)) + S(2 * kz_[1]) * a(2) * b(2)) +
-         half * (S(ky_[0]) * (a(1) * a(1) + b(1) * b(1)) + S(2 * ky_[1]) * a(1) * b(1));
+  return (u * u) * (0.5 * ea_) + (twist * twist) * (0.5 * gj_) +
+         (a(2) * a(2) + b(2) * b(2)) * (0.5 * kz_[0]) + (a(2) * b(2)) * kz_[1] +
+         (a(1) * a(1) + b(1) * b(1)) * (0.5 * ky_[0]) + (a(1) * b(1)) * ky_[1];
 }
 
 }  // namespace latticedyn
