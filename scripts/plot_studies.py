@@ -365,6 +365,9 @@ def write_readme(directory):
     ]
     for title, figure, table, text in SECTIONS:
         lines += [f"## {title}", "", text, "", f"![{title}]({figure})", ""]
+        if title.startswith("Rotation by a prescribed") and (directory / "rotation_angle_C10.png").is_file():
+            lines += ["The C10 run in ParaView at t = 0, 1, ..., 5 s (seen along the hinge axis; "
+                      "`scripts/render.py` on its XDMF):", "", "![C10 in ParaView](rotation_angle_C10.png)", ""]
         path = directory / table
         if path.is_file():
             lines += [path.read_text().rstrip("\n"), ""]

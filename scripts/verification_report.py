@@ -51,6 +51,10 @@ def main():
         f"This page is written by `/usr/bin/python3 scripts/verification_report.py` "
         f"({datetime.date.today()}, {cpu}, {platform.system()}).",
         "",
+        "The beam elements' cross-validation of thesis 8.1 (end moment, self-weight vibration,",
+        "fixed-axis rotation; C- and T-beams of 1 to 10 segments) is a set of parameter studies,",
+        "`verification/studies/`, with its own report: [verification/beams/README.md](verification/beams/README.md).",
+        "",
     ]
     failures = 0
     for case in cases:

@@ -36,8 +36,9 @@ class Study {
   std::vector<std::string> values(const std::string& parameter) const;
 
   /// Writes the model template with ${name} replaced by the beam data and `substitutions` to
-  /// out_dir/models/<tag>.yaml, runs it and returns its trajectory. A failed run is recorded in
-  /// `outcome` (the trajectory holds what was computed up to the failure).
+  /// out_dir/models/<tag>.yaml, runs it (results for ParaView in out_dir/results/<tag>/) and
+  /// returns its trajectory. A failed run is recorded in `outcome` (the trajectory holds what was
+  /// computed up to the failure).
   Trajectory run(const std::string& tag, const std::map<std::string, std::string>& substitutions,
                  SimulationOutcome* outcome) const;
 

@@ -91,7 +91,7 @@ PetscErrorCode TrajectoryRecorder::finish(double t, Vec U, Vec V) {
 }
 
 PetscErrorCode run_and_record(const std::string& model_path, MPI_Comm comm, Trajectory* trajectory,
-                              SimulationOutcome* outcome) {
+                              SimulationOutcome* outcome, const std::string& results_directory) {
   PetscFunctionBeginUser;
   trajectory->simulation = std::make_unique<Simulation>(read_simulation(model_path));
   Simulation& sim = *trajectory->simulation;
@@ -108,10 +108,26 @@ PetscErrorCode run_and_record(const std::string& model_path, MPI_Comm comm, Traj
       for (std::size_t j = 0; j < sim.model.joints.size(); ++j) trajectory->joints0.push_back(s0.joint_position(static_cast<int>(j)));
   }
   TrajectoryRecorder recorder(sa, sim.output.interval, trajectory);
+  std::unique_ptr<ResultWriter> writer;
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  if (!results_directory.empty() && rank == 0) {
+    ResultWriterOptions o;
+    o.directory = results_directory;
+    o.base_name = sim.output.name;
+    o.probe_joints = sim.output.probe_joints;
+    writer = std::make_unique<ResultWriter>(sim.model, o);
+  }
+  const double t_end = sim.run_dynamics ? sim.dynamics.t_end : sim.statics.time;
+  OutputObserver output(sa, writer.get(), sim.output.interval, t_end);
+  ObserverList observers;
+  observers.add(&recorder);
+  if (!results_directory.empty()) observers.add(&output);
   const bool statics = sim.run_static || !sim.run_dynamics;
-  PetscCall(simulate(sim, sa, U, V, statics, sim.run_dynamics, &recorder, outcome));
+  PetscCall(simulate(sim, sa, U, V, statics, sim.run_dynamics, &observers, outcome));
   const double t = outcome->dynamics_run ? outcome->dynamics.time_reached : sim.statics.time;
   PetscCall(recorder.finish(t, U, V));
+  if (!results_directory.empty()) PetscCall(output.finish(t, U, V, Parametrization::rotation_vector_rates));
   PetscCall(VecDestroy(&U));
   PetscCall(VecDestroy(&V));
   PetscFunctionReturn(0);

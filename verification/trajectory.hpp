@@ -2,6 +2,7 @@
 // output times (on rank 0), and the final state; plus the measures taken from them.
 #pragma once
 
+#include "drivers/observers.hpp"
 #include "drivers/simulation.hpp"
 
 #include <memory>
@@ -45,9 +46,10 @@ class TrajectoryRecorder final : public StepObserver {
   Trajectory* out_;
 };
 
-/// Runs a model file on `comm` and records its trajectory (valid on rank 0 of comm).
-/// Throws InputError for a bad model; a solver failure is returned in `outcome`.
+/// Runs a model file on `comm` and records its trajectory (valid on rank 0 of comm); with a
+/// `results_directory` also writes the run's HDF5 / XDMF / probe CSV there, as `latticedyn run`
+/// would. Throws InputError for a bad model; a solver failure is returned in `outcome`.
 PetscErrorCode run_and_record(const std::string& model_path, MPI_Comm comm, Trajectory* trajectory,
-                              SimulationOutcome* outcome);
+                              SimulationOutcome* outcome, const std::string& results_directory = "");
 
 }  // namespace latticedyn
