@@ -90,6 +90,23 @@ TEST(FlexibleBodyReaders, SplitsMembersIntoElementsOnSharedNodes) {
   EXPECT_EQ(dynamic_cast<const CubicSplineBeam*>(c0.element.get())->properties().gauss_points, 3);
 }
 
+TEST(FlexibleBodyReaders, BeamStartsInRigidMotion) {
+  std::string text = kMembers;
+  const std::string anchor = "    gauss_points: 3\n";
+  text.replace(text.find(anchor), anchor.size(), anchor + "    velocity: [1, 0, 0]\n    angular_velocity: [0.5, 0, 0]\n");
+  const Model m = read_simulation_from_string(text, "members.yaml").model;
+  const Body& cb = m.bodies[m.find_body("cbeam")];
+  // Node k at (0, 0, 2k): v = velocity + omega x (r - r_end1); the sections turn with omega,
+  // given to the rotation blocks in body axes.
+  for (int e : cb.elements) {
+    const auto& el = m.elements[e];
+    const DofBlock& t = m.blocks[el.slots[3].block];
+    const DofBlock& r = m.blocks[el.slots[4].block];
+    EXPECT_NEAR((t.velocity0 - (Vec3(1, 0, 0) + Vec3(0.5, 0, 0).cross(t.position0))).norm(), 0.0, 1e-14);
+    EXPECT_NEAR((r.orientation0 * r.velocity0 - Vec3(0.5, 0, 0)).norm(), 0.0, 1e-14);
+  }
+}
+
 TEST(FlexibleBodyReaders, DrivenRopeStartsAsAShallowParabolaOfItsLength) {
   const Simulation sim = read_simulation_from_string(kMembers, "members.yaml");
   const Model& m = sim.model;
