@@ -4,6 +4,7 @@
 
 #include "io/body_readers.hpp"
 #include "io/drive_reader.hpp"
+#include "io/lattice_readers.hpp"
 #include "io/reader_context.hpp"
 
 #include <filesystem>
@@ -157,8 +158,8 @@ void read_output(const ReaderContext& ctx, const InputNode& n, Simulation& sim) 
 
 Simulation read(const InputNode& root, const std::string& source) {
   if (!root.is_map()) root.fail("a model file is a map of keys (title, gravity, bodies, ...)");
-  root.allow_only({"title", "gravity", "materials", "sections", "drives", "ground", "bodies", "constraints", "loads",
-                   "solver", "output"});
+  root.allow_only({"title", "gravity", "materials", "sections", "truss_sections", "drives", "ground", "bodies",
+                   "constraints", "loads", "solver", "output"});
   Simulation sim;
   sim.source = source;
   const std::string stem = std::filesystem::path(source).stem().string();
@@ -173,6 +174,8 @@ Simulation read(const InputNode& root, const std::string& source) {
     for (const auto& [name, node] : m->entries()) ctx.materials[name] = read_material(node);
   if (auto s = root.get("sections"))
     for (const auto& [name, node] : s->entries()) ctx.sections[name] = read_section(node);
+  if (auto t = root.get("truss_sections"))
+    for (const auto& [name, node] : t->entries()) ctx.truss_sections[name] = read_truss_section(ctx, node);
   if (auto d = root.get("drives"))
     for (const auto& [name, node] : d->entries()) ctx.drives[name] = ctx.builder.add_drive(name, read_drive(node));
   if (auto g = root.get("ground")) read_ground(ctx, *g);

@@ -4,6 +4,7 @@
 
 #include "assembly/model_builder.hpp"
 #include "elements/section.hpp"
+#include "elements/truss_section.hpp"
 #include "io/input_node.hpp"
 
 #include <map>
@@ -22,6 +23,7 @@ class ReaderContext {
   ModelBuilder builder;
   std::map<std::string, Material> materials;
   std::map<std::string, SectionProperties> sections;
+  std::map<std::string, TrussSectionSpec> truss_sections;
   std::map<std::string, int> drives;
   std::map<std::string, BodyRecord> bodies;
 

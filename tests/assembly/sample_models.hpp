@@ -4,8 +4,11 @@
 
 #include "assembly/model_builder.hpp"
 #include "core/rotation.hpp"
+#include "elements/cable.hpp"
+#include "elements/cubic_spline_beam.hpp"
 #include "elements/rigid_body.hpp"
 #include "elements/strut_tie.hpp"
+#include "elements/timoshenko_beam.hpp"
 
 #include <memory>
 
@@ -69,9 +72,70 @@ inline StrutBlocks add_strut(ModelBuilder& b, const std::string& name, const Vec
   return out;
 }
 
+/// A flexible chain hung on a joint: a Timoshenko beam welded to it, a cubic spline beam sharing
+/// the beam's end node with its frame turned (slot offsets), a rope from there to the ground.
+inline void add_flexible_chain(ModelBuilder& b, int attach_joint, int ground_joint) {
+  const Material soft{2000.0, 5e6, 0.3};
+  const SectionProperties tube = round_tube_section(0.03, 0.02);
+  const Vec3 p0 = Vec3(1.5, 1.0, 0.2) + Vec3(0.3, 0.1, 0.0), p1 = p0 + Vec3(0.6, 0.2, -0.1), p2 = p1 + Vec3(0.1, 0.5, 0.2);
+  const Mat3 R01 = rotation_matrix<double>(Vec3(0.2, -0.3, 0.1)), R12 = rotation_matrix<double>(Vec3(-0.4, 0.2, 0.5));
+  const int body = b.add_body("flex", "timoshenko_beam");
+  const int t0 = b.add_block(DofBlock::translation(p0, Vec3(0.1, 0, 0), "flex.0"));
+  const int r0 = b.add_block(DofBlock::rotation(R01, Vec3(0.2, 0.1, 0), "flex.0"));
+  const int t1 = b.add_block(DofBlock::translation(p1, Vec3(0, 0.2, 0), "flex.1"));
+  const int r1 = b.add_block(DofBlock::rotation(R01, Vec3(0, -0.1, 0.3), "flex.1"));
+  // The beam's frame x runs from p0 to p1 in the slots' frames: offsets from the node blocks.
+  const Mat3 beam_frame = rotation_matrix<double>(Vec3::UnitX().cross((p1 - p0).normalized()).normalized() *
+                                                  std::acos(Vec3::UnitX().dot((p1 - p0).normalized())));
+  const Mat3 off = R01.transpose() * beam_frame;
+  b.add_element(body, std::make_shared<TimoshenkoBeam>(BeamProperties{soft, tube, (p1 - p0).norm(), 0.0}),
+                {{t0}, {r0, off}, {t1}, {r1, off}});
+  // Cubic spline beam from the beam's end node (a node shared at an angle) to a new node.
+  const Mat3 spline_frame = rotation_matrix<double>(Vec3::UnitX().cross((p2 - p1).normalized()).normalized() *
+                                                    std::acos(Vec3::UnitX().dot((p2 - p1).normalized())));
+  const int t2 = b.add_block(DofBlock::translation(p2, Vec3(0, 0, 0.1), "flex.2"));
+  const int r2 = b.add_block(DofBlock::rotation(R12, Vec3(0.1, 0, 0), "flex.2"));
+  const int s1 = b.add_block(DofBlock::scalar(1.01, 0.02, "flex.s1"));
+  const int s2 = b.add_block(DofBlock::scalar(0.99, -0.01, "flex.s2"));
+  b.add_element(body, std::make_shared<CubicSplineBeam>(CubicSplineBeamProperties{BeamProperties{soft, tube, (p2 - p1).norm(), 0.0}, 3}),
+                {{t1}, {r1, R01.transpose() * spline_frame}, {s1}, {t2}, {r2, R12.transpose() * spline_frame}, {s2}});
+  // A rope from the spline's end to the ground joint, slightly stretched.
+  CableProperties rope;
+  rope.material = Material{1000.0, 1e6, 0.3};
+  rope.section = round_tube_section(0.01, 0.0);
+  const Vec3 pg = b.peek().blocks[b.peek().joints[ground_joint].translation_block].position0;
+  rope.rest_length = 0.98 * (pg - p2).norm();
+  const int v2 = b.add_block(DofBlock::vector((pg - p2) / rope.rest_length + Vec3(0.01, 0, 0), Vec3(0, 0.05, 0), "flex.slope2"));
+  const int tg = b.add_block(DofBlock::translation(pg, Vec3::Zero(), "flex.g"));
+  const int vg = b.add_block(DofBlock::vector((pg - p2) / rope.rest_length, Vec3(0.02, 0, 0), "flex.slopeg"));
+  b.add_element(body, std::make_shared<Cable>(rope), {{t2}, {v2}, {tg}, {vg}});
+  Joint j0;
+  j0.name = "flex.0";
+  j0.translation_block = t0;
+  j0.rotation_block = r0;
+  const int jf = b.add_joint(body, j0);
+  Joint jg;
+  jg.name = "flex.g";
+  jg.translation_block = tg;
+  const int jr = b.add_joint(body, jg);
+  Constraint weld;
+  weld.name = "flex_weld";
+  weld.type = ConstraintType::spherical;
+  weld.joint1 = attach_joint;
+  weld.joint2 = jf;
+  b.add_constraint(weld, false);
+  Constraint anchor;
+  anchor.name = "flex_anchor";
+  anchor.type = ConstraintType::spherical;
+  anchor.joint1 = ground_joint;
+  anchor.joint2 = jr;
+  b.add_constraint(anchor, true);
+}
+
 /// A mechanism using everything the assembly supports: four rigid bodies chained by a driven
 /// revolute, a spherical, a prismatic and a fixed joint, two strut ties (one attached by
-/// multipliers, one by a shared node), loads in the inertial and the body frame.
+/// multipliers, one by a shared node), loads in the inertial and the body frame, and a flexible
+/// chain of a Timoshenko beam, a cubic spline beam and a rope with vector and scalar blocks.
 inline Model kitchen_sink_model() {
   ModelBuilder b;
   b.set_gravity(Vec3(0, 0, -9.81));
@@ -111,6 +175,8 @@ inline Model kitchen_sink_model() {
   const auto S2 = add_strut(b, "tie2", Vec3(1.8, 1.1, 0.2), Vec3(1.0, 1.0, 0.0));
   b.add_constraint(con("tie2_tie", ConstraintType::spherical, 0, S.j2, S2.j1), true);  // shared free node
   b.add_constraint(con("tie2_c", ConstraintType::spherical, 0, S2.j2, c0), false);
+
+  add_flexible_chain(b, d1, b.add_ground_joint("ground.q", Vec3(2.5, 2.0, -0.5), Mat3::Identity()));
 
   NodalLoad f;
   f.name = "push";

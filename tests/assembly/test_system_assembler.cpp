@@ -165,15 +165,17 @@ TEST(SystemAssembler, PreallocationIsExactAndPatternFixed) {
 
 TEST(SystemAssembler, SharedNodesCostNoMultipliers) {
   const Model model = testing::kitchen_sink_model();
-  // Two shared connections: tie's first node merged with the ground (fixed), tie2's first node
-  // with tie's second node; 7 constraints remain with 5 + 3 + 5 + 6 + 3 + 3 + 0 rows... counted:
+  // Three shared connections: tie's first node merged with the ground (fixed), tie2's first node
+  // with tie's second node, the rope's far end with a ground joint; 7 constraints keep rows.
   int rows = 0;
   for (const auto& c : model.constraints) rows += c.rows();
-  EXPECT_EQ(model.constraints.size(), 6u);
-  EXPECT_EQ(rows, 6 + 3 + 5 + 6 + 3 + 3);  // driven revolute, spherical, prismatic, fixed, 2 spherical
+  EXPECT_EQ(model.constraints.size(), 7u);
+  // driven revolute, spherical, prismatic, fixed, 2 spherical, the flexible chain's spherical
+  EXPECT_EQ(rows, 6 + 3 + 5 + 6 + 3 + 3 + 3);
   // 4 bodies x 6 + tie's free end 3 + tie2's far end 3 (its near end is shared, the tie's
-  // ground end is fixed).
-  EXPECT_EQ(model.num_free_dofs(), 4 * 6 + 3 + 3);
+  // ground end is fixed) + the flexible chain: 3 nodes x 6, 2 stretches, the rope's near slope 3
+  // and far slope 3 (its far end is on the ground).
+  EXPECT_EQ(model.num_free_dofs(), 4 * 6 + 3 + 3 + 3 * 6 + 2 + 3 + 3);
 }
 
 }  // namespace

@@ -7,6 +7,8 @@
 #include "tests/assembly/sample_models.hpp"
 
 #include <gtest/gtest.h>
+
+#include <map>
 #include <hdf5.h>
 #include <petscvec.h>
 #include <unistd.h>
@@ -290,9 +292,17 @@ TEST(ResultWriter, RoundTripOfThreeSteps) {
   EXPECT_EQ(read<double>(f.id, "/time").v, times);
 
   // Static description.
-  std::vector<int> trans, rot;
-  for (int b = 0; b < static_cast<int>(model.blocks.size()); ++b)
-    (model.blocks[b].kind == SlotKind::translation ? trans : rot).push_back(b);
+  std::vector<int> trans, rot, scal, vect;
+  for (int b = 0; b < static_cast<int>(model.blocks.size()); ++b) {
+    switch (model.blocks[b].kind) {
+      case SlotKind::translation: trans.push_back(b); break;
+      case SlotKind::rotation: rot.push_back(b); break;
+      case SlotKind::scalar: scal.push_back(b); break;
+      case SlotKind::vector: vect.push_back(b); break;
+    }
+  }
+  ASSERT_FALSE(scal.empty());  // the kitchen sink's cubic spline beam
+  ASSERT_FALSE(vect.empty());  // and rope
   EXPECT_EQ(read<int>(f.id, "/model/translation_blocks").v, trans);
   EXPECT_EQ(read<int>(f.id, "/model/rotation_blocks").v, rot);
   const auto joint_names = read_strings(f.id, "/model/joint_names");
@@ -315,7 +325,12 @@ TEST(ResultWriter, RoundTripOfThreeSteps) {
   const auto omega = read<double>(f.id, "/blocks/angular_velocity");
   EXPECT_EQ(pos.dims, (std::vector<hsize_t>{3, trans.size(), 3}));
   EXPECT_EQ(R.dims, (std::vector<hsize_t>{3, rot.size(), 3, 3}));
-  EXPECT_FALSE(exists(f.id, "/blocks/scalar_position"));  // no scalar blocks: not created
+  EXPECT_EQ(read<int>(f.id, "/model/scalar_blocks").v, scal);
+  EXPECT_EQ(read<int>(f.id, "/model/vector_blocks").v, vect);
+  const auto scalar = read<double>(f.id, "/blocks/scalar_position");
+  const auto vector = read<double>(f.id, "/blocks/vector");
+  EXPECT_EQ(scalar.dims, (std::vector<hsize_t>{3, scal.size()}));
+  EXPECT_EQ(vector.dims, (std::vector<hsize_t>{3, vect.size(), 3}));
   const auto jpos = read<double>(f.id, "/joints/position");
   const auto jvel = read<double>(f.id, "/joints/velocity");
   EXPECT_EQ(jpos.dims, (std::vector<hsize_t>{3, model.joints.size(), 3}));
@@ -342,6 +357,9 @@ TEST(ResultWriter, RoundTripOfThreeSteps) {
         for (hsize_t d = 0; d < 3; ++d) EXPECT_EQ(R.at({k, i, c, d}), s.block(rot[i]).rot(c, d));  // row-major
       }
     }
+    for (hsize_t i = 0; i < scal.size(); ++i) EXPECT_EQ(scalar.at({k, i}), s.block(scal[i]).pos(0));
+    for (hsize_t i = 0; i < vect.size(); ++i)
+      for (hsize_t c = 0; c < 3; ++c) EXPECT_EQ(vector.at({k, i, c}), s.block(vect[i]).pos(c));
     for (hsize_t j = 0; j < model.joints.size(); ++j)
       for (hsize_t c = 0; c < 3; ++c) {
         EXPECT_EQ(jpos.at({k, j, c}), s.joint_position(static_cast<int>(j))(c));
@@ -372,28 +390,33 @@ TEST(ResultWriter, RoundTripOfThreeSteps) {
   }
 
   // Drawing: 2 strut ties (2 axis points, 1 line each), 4 rigid bodies with 2 joints (a star of
-  // 1 line each); rigid body elements have no axis points.
+  // 1 line each), 3 beam and rope elements (5 axis points, a polyline of 4 lines each); rigid body
+  // elements have no axis points.
   const auto points = read<double>(f.id, "/viz/points");
   const auto disp = read<double>(f.id, "/viz/displacement");
   const auto lines = read<int>(f.id, "/viz/lines");
   const auto body = read<int>(f.id, "/viz/body");
   const auto element = read<int>(f.id, "/viz/element");
   const auto viz_axial = read<double>(f.id, "/viz/axial_force");
-  EXPECT_EQ(points.dims, (std::vector<hsize_t>{3, 12, 3}));
-  EXPECT_EQ(lines.dims, (std::vector<hsize_t>{6, 2}));
-  EXPECT_EQ(body.dims, (std::vector<hsize_t>{6}));
-  EXPECT_EQ(viz_axial.dims, (std::vector<hsize_t>{3, 6}));
+  const hsize_t np = 2 * 2 + 4 * 2 + 3 * 5, nl = 2 + 4 + 3 * 4;
+  EXPECT_EQ(points.dims, (std::vector<hsize_t>{3, np, 3}));
+  EXPECT_EQ(lines.dims, (std::vector<hsize_t>{nl, 2}));
+  EXPECT_EQ(body.dims, (std::vector<hsize_t>{nl}));
+  EXPECT_EQ(viz_axial.dims, (std::vector<hsize_t>{3, nl}));
   for (hsize_t k = 0; k < 3; ++k) {
     const ModelState& s = run.states[k];
     auto point = [&](int p) {
       return Vec3(points.at({k, hsize_t(p), 0}), points.at({k, hsize_t(p), 1}), points.at({k, hsize_t(p), 2}));
     };
-    for (hsize_t l = 0; l < 6; ++l) {
+    std::map<int, int> segment;  // element -> lines of it seen so far
+    for (hsize_t l = 0; l < nl; ++l) {
       const int a = lines.at({l, 0}), b = lines.at({l, 1}), e = element.v[l];
-      ASSERT_TRUE(a >= 0 && a < 12 && b >= 0 && b < 12);
+      ASSERT_TRUE(a >= 0 && a < static_cast<int>(np) && b >= 0 && b < static_cast<int>(np));
       std::vector<Vec3> expected;
+      int first = 0;
       if (e >= 0) {
         expected = model.elements[e].element->axis_points(s.element_slots(e), s.context());
+        first = segment[e]++;
         EXPECT_EQ(body.v[l], model.elements[e].body);
         EXPECT_EQ(viz_axial.at({k, l}), *s.axial_force(e));
       } else {
@@ -402,10 +425,10 @@ TEST(ResultWriter, RoundTripOfThreeSteps) {
         expected = {s.joint_position(bd.joints[0]), s.joint_position(bd.joints[1])};
         EXPECT_EQ(viz_axial.at({k, l}), 0.0);
       }
-      EXPECT_EQ(point(a), expected.at(0));
-      EXPECT_EQ(point(b), expected.at(1));
+      EXPECT_EQ(point(a), expected.at(first));
+      EXPECT_EQ(point(b), expected.at(first + 1));
     }
-    for (hsize_t p = 0; p < 12; ++p)
+    for (hsize_t p = 0; p < np; ++p)
       for (hsize_t c = 0; c < 3; ++c) EXPECT_EQ(disp.at({k, p, c}), points.at({k, p, c}) - points.at({0, p, c}));
   }
   EXPECT_EQ(disp.at({2, 0, 0}), 0.0);  // the first tie's first end is tied to the ground
