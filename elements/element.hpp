@@ -84,6 +84,12 @@ class Element {
   /// Points along the element's axis for drawing it as a polyline; rigid bodies return none
   /// (they are drawn through their joints).
   virtual std::vector<Vec3> axis_points(std::span<const SlotState<double>> state, const ElementContext& ctx) const;
+  /// Several polylines for elements that stand for many members (a super truss); by default the
+  /// one polyline of axis_points.
+  virtual std::vector<std::vector<Vec3>> axis_polylines(std::span<const SlotState<double>> state,
+                                                        const ElementContext& ctx) const {
+    return {axis_points(state, ctx)};
+  }
 };
 
 }  // namespace latticedyn

@@ -140,13 +140,14 @@ void read_body(ReaderContext& ctx, const InputNode& n) {
   if (name.empty() || name.find('.') != std::string::npos) name_node.fail("body names must be non-empty and contain no '.'");
   if (ctx.bodies.count(name)) name_node.fail("a body named '" + name + "' exists already");
   const std::string type =
-      n["type"].as_choice({"rigid_body", "strut_tie", "timoshenko_beam", "cubic_spline_beam", "rope", "lattice"});
+      n["type"].as_choice({"rigid_body", "strut_tie", "timoshenko_beam", "cubic_spline_beam", "rope", "lattice", "super_truss"});
   try {
     if (type == "rigid_body") read_rigid_body(ctx, n, name);
     if (type == "strut_tie") read_strut_tie(ctx, n, name);
     if (type == "timoshenko_beam" || type == "cubic_spline_beam") read_beam(ctx, n, name, type);
     if (type == "rope") read_rope(ctx, n, name);
     if (type == "lattice") read_lattice(ctx, n, name);
+    if (type == "super_truss") read_super_truss(ctx, n, name);
   } catch (const std::invalid_argument& e) {
     n.fail(e.what());
   }

@@ -3,6 +3,7 @@
 #include "io/lattice_readers.hpp"
 
 #include "assembly/lattice_builder.hpp"
+#include "elements/super_truss.hpp"
 
 #include <stdexcept>
 
@@ -62,12 +63,51 @@ TrussSectionSpec read_truss_section(const ReaderContext& ctx, const InputNode& n
   return s;
 }
 
-void read_lattice(ReaderContext& ctx, const InputNode& n, const std::string& name) {
-  n.allow_only({"name", "type", "section", "position", "rotation", "rotation_deg", "axis_angle", "cardan_zyx_deg",
-                "member_type", "elements_per_member", "rigid_ends"});
+namespace {
+
+const TrussSectionSpec& truss_section_of(const ReaderContext& ctx, const InputNode& n) {
   const InputNode sn = n["section"];
   const auto it = ctx.truss_sections.find(sn.as_string());
   if (it == ctx.truss_sections.end()) sn.fail("no truss section named '" + sn.as_string() + "' (define it under 'truss_sections')");
+  return it->second;
+}
+
+}  // namespace
+
+void read_super_truss(ReaderContext& ctx, const InputNode& n, const std::string& name) {
+  n.allow_only({"name", "type", "section", "position", "rotation", "rotation_deg", "axis_angle", "cardan_zyx_deg"});
+  const TrussSectionSpec& spec = truss_section_of(ctx, n);
+  const TrussGeometry g = build_truss_geometry(spec);
+  const Vec3 position = n.get_vec3("position", Vec3::Zero());
+  const Mat3 Q = ReaderContext::orientation(n);
+  const int body = ctx.builder.add_body(name, "super_truss");
+  ctx.bodies[name] = BodyRecord{body, "super_truss", {}};
+  const Vec3 origin2 = position + Q * Vec3(spec.length, 0, 0);
+  const int t1 = ctx.builder.add_block(DofBlock::translation(position, Vec3::Zero(), name + ".1"));
+  const int r1 = ctx.builder.add_block(DofBlock::rotation(Q, Vec3::Zero(), name + ".1"));
+  const int t2 = ctx.builder.add_block(DofBlock::translation(origin2, Vec3::Zero(), name + ".2"));
+  const int r2 = ctx.builder.add_block(DofBlock::rotation(Q, Vec3::Zero(), name + ".2"));
+  ctx.builder.add_element(body, std::make_shared<SuperTrussElement>(spec, g), {{t1}, {r1}, {t2}, {r2}});
+  // Joints: the end sections' reference points, and every end-section node on its rigid section.
+  auto joint = [&](int t, int r, const Vec3& offset) {
+    Joint j;
+    j.translation_block = t;
+    j.rotation_block = r;
+    j.offset = offset;
+    return j;
+  };
+  ctx.add_joint(n, name, "1", joint(t1, r1, Vec3::Zero()));
+  ctx.add_joint(n, name, "2", joint(t2, r2, Vec3::Zero()));
+  for (std::size_t k = 0; k < spec.end1.size(); ++k)
+    ctx.add_joint(n, name, "e1n" + std::to_string(k + 1), joint(t1, r1, Vec3(0, spec.end1[k][0], spec.end1[k][1])));
+  for (std::size_t k = 0; k < spec.end2.size(); ++k)
+    ctx.add_joint(n, name, "e2n" + std::to_string(k + 1), joint(t2, r2, Vec3(0, spec.end2[k][0], spec.end2[k][1])));
+}
+
+void read_lattice(ReaderContext& ctx, const InputNode& n, const std::string& name) {
+  n.allow_only({"name", "type", "section", "position", "rotation", "rotation_deg", "axis_angle", "cardan_zyx_deg",
+                "member_type", "elements_per_member", "rigid_ends"});
+  const TrussSectionSpec& spec = truss_section_of(ctx, n);
   FullLatticeOptions opt;
   opt.position = n.get_vec3("position", Vec3::Zero());
   opt.orientation = ReaderContext::orientation(n);
@@ -77,8 +117,8 @@ void read_lattice(ReaderContext& ctx, const InputNode& n, const std::string& nam
   opt.elements_per_member = n.get_int("elements_per_member", 1);
   if (opt.elements_per_member < 1 || opt.elements_per_member > 100) n["elements_per_member"].fail("expected 1 to 100");
   opt.rigid_ends = n.get_bool("rigid_ends", true);
-  const TrussGeometry g = build_truss_geometry(it->second);
-  const FullLattice lattice = add_full_lattice(ctx.builder, name, it->second, g, opt);
+  const TrussGeometry g = build_truss_geometry(spec);
+  const FullLattice lattice = add_full_lattice(ctx.builder, name, spec, g, opt);
   BodyRecord rec{lattice.body, "lattice", {}};
   for (const auto& [jname, index] : lattice.joints) rec.joints[jname] = index;
   ctx.bodies[name] = rec;

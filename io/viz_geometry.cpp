@@ -59,14 +59,18 @@ VizGeometry VizGeometry::plan(const ModelState& state) {
   VizGeometry g;
   int next = 0;
   for (std::size_t e = 0; e < model.elements.size(); ++e) {
-    const int n =
-        static_cast<int>(model.elements[e].element->axis_points(state.element_slots(static_cast<int>(e)), state.context()).size());
-    g.axis_count_.push_back(n);
-    g.element_first_.push_back(n >= 2 ? next : -1);
-    if (n < 2) continue;  // a single point draws no line
-    for (int i = 0; i + 1 < n; ++i)
-      g.add_line(next + i, next + i + 1, model.elements[e].body, static_cast<int>(e));
-    next += n;
+    const auto polylines =
+        model.elements[e].element->axis_polylines(state.element_slots(static_cast<int>(e)), state.context());
+    std::vector<int> counts;
+    g.element_first_.push_back(next);
+    for (const auto& line : polylines) {
+      const int n = line.size() >= 2 ? static_cast<int>(line.size()) : 0;  // a single point draws no line
+      counts.push_back(n);
+      for (int i = 0; i + 1 < n; ++i)
+        g.add_line(next + i, next + i + 1, model.elements[e].body, static_cast<int>(e));
+      next += n;
+    }
+    g.axis_count_.push_back(std::move(counts));
   }
   g.first_frame_point_ = next;
   for (std::size_t b = 0; b < model.bodies.size(); ++b)
@@ -79,15 +83,20 @@ void VizGeometry::points(const ModelState& state, std::vector<double>& xyz) cons
   xyz.assign(3 * static_cast<std::size_t>(num_points()), 0.0);
   for (std::size_t e = 0; e < model.elements.size(); ++e) {
     const Element& element = *model.elements[e].element;
-    const auto pts = element.axis_points(state.element_slots(static_cast<int>(e)), state.context());
-    if (static_cast<int>(pts.size()) != axis_count_[e])
-      throw std::runtime_error("ResultWriter: element " + std::to_string(e) + " (" +
-                               std::string(element.type_name()) + ") has " + std::to_string(pts.size()) +
-                               " axis points, " + std::to_string(axis_count_[e]) +
-                               " at the first output; the drawn geometry must keep its size");
-    if (element_first_[e] < 0) continue;
-    for (std::size_t i = 0; i < pts.size(); ++i)
-      std::copy(pts[i].data(), pts[i].data() + 3, xyz.data() + 3 * (element_first_[e] + i));
+    const auto polylines = element.axis_polylines(state.element_slots(static_cast<int>(e)), state.context());
+    bool same = polylines.size() == axis_count_[e].size();
+    for (std::size_t k = 0; same && k < polylines.size(); ++k)
+      same = (polylines[k].size() >= 2 ? static_cast<int>(polylines[k].size()) : 0) == axis_count_[e][k];
+    if (!same)
+      throw std::runtime_error("ResultWriter: element " + std::to_string(e) + " (" + std::string(element.type_name()) +
+                               ") changed the number of its drawn axis points since the first output; the drawn "
+                               "geometry must keep its size");
+    int at = element_first_[e];
+    for (std::size_t k = 0; k < polylines.size(); ++k) {
+      for (int i = 0; i < axis_count_[e][k]; ++i)
+        std::copy(polylines[k][i].data(), polylines[k][i].data() + 3, xyz.data() + 3 * (at + i));
+      at += axis_count_[e][k];
+    }
   }
   for (std::size_t k = 0; k < frame_points_.size(); ++k) {
     const FramePoint& p = frame_points_[k];

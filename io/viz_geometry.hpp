@@ -8,8 +8,8 @@
 
 namespace latticedyn::io {
 
-/// Points and lines, in this order: every element with two or more axis points contributes a
-/// polyline through them (element order); every body of type "rigid_body" contributes lines
+/// Points and lines, in this order: every element contributes its polylines (element order; a
+/// polyline of fewer than two points draws nothing); every body of type "rigid_body" contributes lines
 /// through its joints (body order): its draw_sequence as a polyline, else a star from its first
 /// joint, else (one joint) a line from its translation block's origin to the joint when the
 /// joint's offset is non-zero. Points are not shared between elements or bodies.
@@ -42,7 +42,7 @@ class VizGeometry {
   void add_line(int a, int b, int body, int element);
   void add_rigid_body(const Model& model, int body);
 
-  std::vector<int> axis_count_;     // per element, from the first state
+  std::vector<std::vector<int>> axis_count_;  // per element and polyline, from the first state
   std::vector<int> element_first_;  // per element, its first point; -1 if not drawn
   int first_frame_point_ = 0;
   std::vector<FramePoint> frame_points_;

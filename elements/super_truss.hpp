@@ -1,0 +1,221 @@
+// The super truss element (thesis 3.5): a whole lattice section reduced to the 12 coordinates
+// of its two rigid end sections; every member's virtual power is projected through the
+// kinematic map from the end sections to the lattice nodes.
+#pragma once
+
+#include "core/jet.hpp"
+#include "elements/autodiff_element.hpp"
+#include "elements/timoshenko_beam.hpp"
+#include "elements/truss_section.hpp"
+
+#include <memory>
+#include <vector>
+
+namespace latticedyn {
+
+/// Slots: [translation 1, rotation 1, translation 2, rotation 2], the reference points of the two
+/// end sections (on the truss axis at x = 0 and x = L) and the truss frame there (x along the
+/// truss). The kinematic map (assumptions of 3.5.1):
+/// - end-section nodes ride rigidly on their end frame: p = r_i + R_i s (3-87);
+/// - each main beam is a cubic Hermite curve between its end nodes with end tangents L_m R_i a_m
+///   (a_m its undeformed direction, no axial strain, rigid connection to the end sections, 3-90);
+///   its internal nodes sit at equal parameter steps, oriented by relative Cardan angles from the
+///   main beam's frame at end 1 (bending from the tangent, torsion interpolated, 3.4 / 3-92);
+/// - every member is a co-rotational Timoshenko beam rigidly connected to its two nodes.
+/// Elastic force and stiffness: the gradient and Hessian of the members' strain energy as a
+/// function of the 12 coordinates (HyperDual<12> through map and members). Inertia: the members'
+/// consistent translational mass and lumped rotary inertia at the nodes, projected with the
+/// map's Jacobians (3-97..3-102); node velocities and accelerations from time jets of the map,
+/// the tangents by automatic differentiation of that residual.
+class SuperTrussElement final : public AutoDiffElement<SuperTrussElement, 12> {
+ public:
+  static constexpr std::array<SlotKind, 4> kSlots = {SlotKind::translation, SlotKind::rotation,
+                                                      SlotKind::translation, SlotKind::rotation};
+
+  SuperTrussElement(const TrussSectionSpec& spec, const TrussGeometry& geometry);
+
+  std::string_view type_name() const override { return "super_truss"; }
+  void residual(std::span<const SlotState<double>> state, const ElementContext& ctx,
+                Eigen::Ref<VecX> r) const override;
+  void tangents(std::span<const SlotState<double>> state, const ElementContext& ctx,
+                ElementTangents& out) const override;
+  ElementEnergy energy(std::span<const SlotState<double>> state, const ElementContext& ctx) const override;
+  /// The members' axes, end to end (one polyline through every member would need repeats; the
+  /// drawing takes the members as separate lines: see member_lines).
+  std::vector<Vec3> axis_points(std::span<const SlotState<double>> state, const ElementContext& ctx) const override;
+  std::vector<std::vector<Vec3>> axis_polylines(std::span<const SlotState<double>> state,
+                                                const ElementContext& ctx) const override;
+
+  int num_nodes() const { return static_cast<int>(nodes_.size()); }
+  int num_members() const { return static_cast<int>(members_.size()); }
+  /// Positions and orientations of the lattice nodes for end-section states (for tests, drawing
+  /// and the comparison with the full model).
+  void node_poses(std::span<const SlotState<double>> state, std::vector<Vec3>& p, std::vector<Mat3>& R) const;
+  /// The axial force of every member (Timoshenko: E A (l - L0) / L0) at a state.
+  std::vector<double> member_axial_forces(std::span<const SlotState<double>> state) const;
+
+  template <class S>
+  void compute_residual(std::span<const SlotState<S>> s, const ElementContext& ctx, Eigen::Matrix<S, 12, 1>& r) const;
+  template <class T>
+  void node_map(const Vec3T<T>& r1, const Mat3T<T>& R1, const Vec3T<T>& r2, const Mat3T<T>& R2,
+                std::vector<Vec3T<T>>& p, std::vector<Mat3T<T>>& R) const;
+  template <class T>
+  T strain_energy(const Vec3T<T>& r1, const Mat3T<T>& R1, const Vec3T<T>& r2, const Mat3T<T>& R2) const;
+
+ private:
+  struct NodeData {
+    int end = 0;          ///< 1 or 2 for end-section nodes, 0 for internal nodes
+    Vec3 offset;          ///< end nodes: position relative to the end's reference point (truss frame)
+    int main_beam = -1;   ///< internal nodes
+    double xi = 0.0;      ///< internal nodes: parameter along the main beam
+  };
+  struct MainBeamData {
+    int start = -1, end = -1;  ///< end-section nodes
+    Vec3 direction;            ///< a_m, undeformed, truss frame
+    double length = 0.0;
+    Mat3 frame;                ///< the main beam's frame in the truss frame (internal nodes')
+    std::vector<int> internal;  ///< its internal nodes
+  };
+  struct MemberData {
+    int a = -1, b = -1;
+    Mat3 offset_a, offset_b;  ///< member frame in the node frames (rigid connection)
+    std::shared_ptr<TimoshenkoBeam> beam;
+    double mass = 0.0;
+    Vec3 rotary = Vec3::Zero();  ///< lumped rotary inertia per end, member frame
+  };
+  struct MassPair {
+    int a, b;
+    double m;
+  };
+
+  template <class S>
+  void node_kinematics(std::span<const SlotState<S>> s, const Vec3T<S>& v1, const Vec3T<S>& w1, const Vec3T<S>& v2,
+                       const Vec3T<S>& w2, const Vec3T<S>& a1, const Vec3T<S>& dw1, const Vec3T<S>& a2,
+                       const Vec3T<S>& dw2, std::vector<Vec3T<S>>* p, std::vector<Vec3T<S>>& pd,
+                       std::vector<Vec3T<S>>* pdd, std::vector<Vec3T<S>>& w, std::vector<Vec3T<S>>* dw) const;
+
+  TrussSectionSpec spec_;
+  std::vector<NodeData> nodes_;
+  std::vector<Mat3> node_frames_;  ///< undeformed node frames in the truss frame
+  std::vector<MainBeamData> main_beams_;
+  std::vector<MemberData> members_;
+  std::vector<MassPair> mass_pairs_;   ///< translational mass couplings, summed over members
+  std::vector<Mat3> node_rotary_;      ///< lumped rotary inertia per node, node frame
+  std::vector<double> node_weight_;    ///< mass whose weight acts at each node
+};
+
+// ---------------------------------------------------------------------------------------------
+
+template <class T>
+void SuperTrussElement::node_map(const Vec3T<T>& r1, const Mat3T<T>& R1, const Vec3T<T>& r2, const Mat3T<T>& R2,
+                                 std::vector<Vec3T<T>>& p, std::vector<Mat3T<T>>& R) const {
+  using std::atan2;
+  using std::sqrt;
+  p.resize(nodes_.size());
+  R.resize(nodes_.size());
+  for (std::size_t n = 0; n < nodes_.size(); ++n) {
+    const NodeData& nd = nodes_[n];
+    if (nd.end == 0) continue;
+    const Mat3T<T>& Ri = nd.end == 1 ? R1 : R2;
+    p[n] = (nd.end == 1 ? r1 : r2) + Ri * nd.offset;
+    R[n] = Ri;
+  }
+  for (std::size_t b = 0; b < main_beams_.size(); ++b) {
+    const MainBeamData& mb = main_beams_[b];
+    const Vec3T<T> X0 = p[mb.start], X2 = p[mb.end];
+    const Vec3T<T> X1 = R1 * (mb.direction * mb.length), X3 = R2 * (mb.direction * mb.length);
+    const Mat3T<T> A = R1 * mb.frame, B = R2 * mb.frame;
+    const Mat3T<T> C12 = A.transpose() * B;
+    const T phi12 = atan2(C12(2, 1), C12(2, 2));
+    for (int n : mb.internal) {
+      const double x = nodes_[n].xi, x2 = x * x, x3 = x2 * x;
+      p[n] = X0 * (1 - 3 * x2 + 2 * x3) + X1 * (x - 2 * x2 + x3) + X2 * (3 * x2 - 2 * x3) + X3 * (x3 - x2);
+      // Only the tangent's direction enters the Cardan angles: dr/dxi will do.
+      const Vec3T<T> rp = X0 * (-6 * x + 6 * x2) + X1 * (1 - 4 * x + 3 * x2) + X2 * (6 * x - 6 * x2) + X3 * (3 * x2 - 2 * x);
+      const Vec3T<T> m = A.transpose() * rp;
+      const T psi = atan2(-m(2), sqrt(m(0) * m(0) + m(1) * m(1)));
+      const T theta = atan2(m(1), m(0));
+      R[n] = A * rotation_z<T>(theta) * rotation_y<T>(psi) * rotation_x<T>(phi12 * x);
+    }
+  }
+}
+
+template <class T>
+T SuperTrussElement::strain_energy(const Vec3T<T>& r1, const Mat3T<T>& R1, const Vec3T<T>& r2, const Mat3T<T>& R2) const {
+  std::vector<Vec3T<T>> p;
+  std::vector<Mat3T<T>> R;
+  node_map<T>(r1, R1, r2, R2, p, R);
+  T U(0.0);
+  for (const MemberData& m : members_)
+    U += m.beam->strain_energy<T>(Vec3T<T>(p[m.b] - p[m.a]), Mat3T<T>(R[m.a] * m.offset_a), Mat3T<T>(R[m.b] * m.offset_b));
+  return U;
+}
+
+// Node velocities (and, when asked, positions, accelerations and angular accelerations) from
+// time jets of the map through the end sections' motion.
+template <class S>
+void SuperTrussElement::node_kinematics(std::span<const SlotState<S>> s, const Vec3T<S>& v1, const Vec3T<S>& w1,
+                                        const Vec3T<S>& v2, const Vec3T<S>& w2, const Vec3T<S>& a1, const Vec3T<S>& dw1,
+                                        const Vec3T<S>& a2, const Vec3T<S>& dw2, std::vector<Vec3T<S>>* p,
+                                        std::vector<Vec3T<S>>& pd, std::vector<Vec3T<S>>* pdd,
+                                        std::vector<Vec3T<S>>& w, std::vector<Vec3T<S>>* dw) const {
+  using J = Jet<S>;
+  Vec3T<J> r1, r2;
+  for (int i = 0; i < 3; ++i) {
+    r1(i) = J(s[0].pos(i), v1(i), a1(i));
+    r2(i) = J(s[2].pos(i), v2(i), a2(i));
+  }
+  const Mat3T<J> R1 = rotation_jet<S>(s[1].rot, w1, dw1), R2 = rotation_jet<S>(s[3].rot, w2, dw2);
+  std::vector<Vec3T<J>> pj;
+  std::vector<Mat3T<J>> Rj;
+  node_map<J>(r1, R1, r2, R2, pj, Rj);
+  const std::size_t nn = nodes_.size();
+  pd.resize(nn);
+  w.resize(nn);
+  if (p) p->resize(nn);
+  if (pdd) pdd->resize(nn);
+  if (dw) dw->resize(nn);
+  for (std::size_t n = 0; n < nn; ++n) {
+    for (int i = 0; i < 3; ++i) {
+      pd[n](i) = pj[n](i).dx;
+      if (p) (*p)[n](i) = pj[n](i).x;
+      if (pdd) (*pdd)[n](i) = pj[n](i).ddx;
+    }
+    Vec3T<S> ww, dww;
+    body_rates<S>(Rj[n], ww, dww);
+    w[n] = ww;
+    if (dw) (*dw)[n] = dww;
+  }
+}
+
+// Inertia and gravity: r = sum_n Jp_n^T (sum_n' M_nn' a_n' - m_n g) + Jw_n^T (J_n dw_n + w_n x J_n w_n),
+// with the Jacobians' columns the node velocities for unit end-section velocities.
+template <class S>
+void SuperTrussElement::compute_residual(std::span<const SlotState<S>> s, const ElementContext& ctx,
+                                         Eigen::Matrix<S, 12, 1>& r) const {
+  const std::size_t nn = nodes_.size();
+  std::vector<Vec3T<S>> p, pd, pdd, w, dw;
+  node_kinematics<S>(s, s[0].vel, s[1].vel, s[2].vel, s[3].vel, s[0].acc, s[1].acc, s[2].acc, s[3].acc, &p, pd, &pdd,
+                     w, &dw);
+  // Generalized node forces: translational (inertia minus weight) and rotational.
+  std::vector<Vec3T<S>> f(nn, Vec3T<S>::Zero()), tau(nn);
+  for (std::size_t n = 0; n < nn; ++n) {
+    f[n] = -cast_to<S>(Vec3(node_weight_[n] * ctx.gravity));
+    const Mat3T<S> Jn = cast_to<S>(node_rotary_[n]);
+    tau[n] = Jn * dw[n] + w[n].cross(Jn * w[n]);
+  }
+  for (const MassPair& mp : mass_pairs_) f[mp.a] += pdd[mp.b] * S(mp.m);
+  // Project with the Jacobians: column j is the node motion for unit velocity j.
+  const Vec3T<S> zero = Vec3T<S>::Zero();
+  std::vector<Vec3T<S>> pdj, wj;
+  for (int j = 0; j < 12; ++j) {
+    Vec3T<S> u[4] = {zero, zero, zero, zero};
+    u[j / 3](j % 3) = S(1.0);
+    node_kinematics<S>(s, u[0], u[1], u[2], u[3], zero, zero, zero, zero, nullptr, pdj, nullptr, wj, nullptr);
+    S rj(0.0);
+    for (std::size_t n = 0; n < nn; ++n) rj += f[n].dot(pdj[n]) + tau[n].dot(wj[n]);
+    r(j) = rj;
+  }
+}
+
+}  // namespace latticedyn
