@@ -15,7 +15,7 @@
 #include "timestepping/generalized_alpha.hpp"
 
 #include <benchmark/benchmark.h>
-#include <petscsys.h>
+#include <slepcsys.h>
 
 #include <random>
 
@@ -261,9 +261,9 @@ BENCHMARK(BM_TrussImplicitStep)->DenseRange(0, 3)->Unit(benchmark::kMillisecond)
 
 int main(int argc, char** argv) {
   benchmark::Initialize(&argc, argv);
-  if (PetscInitialize(&argc, &argv, nullptr, nullptr) != 0) return 1;
+  if (SlepcInitialize(&argc, &argv, nullptr, nullptr) != 0) return 1;
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
-  PetscFinalize();
+  SlepcFinalize();
   return 0;
 }

@@ -4,7 +4,7 @@
 #include "drivers/commands.hpp"
 #include "io/input_node.hpp"
 
-#include <petscsys.h>
+#include <slepcsys.h>
 
 #include <cstdio>
 #include <cstring>
@@ -59,7 +59,7 @@ int main(int argc, char** argv) {
   int pargc = static_cast<int>(petsc_args.size());
   petsc_args.push_back(nullptr);
   char** pargv = petsc_args.data();
-  if (PetscInitialize(&pargc, &pargv, nullptr, nullptr) != 0) return kInternalError;
+  if (SlepcInitialize(&pargc, &pargv, nullptr, nullptr) != 0) return kInternalError;
   PetscMPIInt size = 1, rank = 0;
   MPI_Comm_size(PETSC_COMM_WORLD, &size);
   MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
@@ -86,6 +86,6 @@ int main(int argc, char** argv) {
     if (size > 1) MPI_Abort(PETSC_COMM_WORLD, kInternalError);
     code = kInternalError;
   }
-  PetscFinalize();
+  SlepcFinalize();
   return code;
 }

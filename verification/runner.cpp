@@ -5,7 +5,7 @@
 
 #include "io/input_node.hpp"
 
-#include <petscsys.h>
+#include <slepcsys.h>
 
 #include <cmath>
 #include <cstdio>
@@ -202,7 +202,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   const std::string case_path = argv[1];
-  if (PetscInitialize(&argc, &argv, nullptr, nullptr) != 0) return 3;
+  if (SlepcInitialize(&argc, &argv, nullptr, nullptr) != 0) return 3;
   int code = 0;
   try {
     code = latticedyn::verify(case_path, PETSC_COMM_WORLD);
@@ -210,6 +210,6 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "latticedyn_verify: error: %s\n", e.what());
     code = 2;
   }
-  PetscFinalize();
+  SlepcFinalize();
   return code;
 }

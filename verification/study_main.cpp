@@ -3,7 +3,7 @@
 // every acceptance check passes, 1 when one fails, 2 for bad input.
 #include "verification/study.hpp"
 
-#include <petscsys.h>
+#include <slepcsys.h>
 
 #include <cstdio>
 #include <cstring>
@@ -43,7 +43,7 @@ int main(int argc, char** argv) {
     if (!std::strcmp(argv[i], "--out") && i + 1 < argc) out = argv[++i];
     if (!std::strcmp(argv[i], "--quick")) quick = true;
   }
-  if (PetscInitialize(&argc, &argv, nullptr, nullptr) != 0) return 3;
+  if (SlepcInitialize(&argc, &argv, nullptr, nullptr) != 0) return 3;
   int code = 0;
   try {
     code = latticedyn::run_study(path, out, quick);
@@ -54,6 +54,6 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "latticedyn_study: error: %s\n", e.what());
     code = 1;
   }
-  PetscFinalize();
+  SlepcFinalize();
   return code;
 }

@@ -1,0 +1,86 @@
+// Generalized eigenproblem with SLEPc: shift-and-invert near zero, exact LU of K - sigma M.
+#include "timestepping/modal_analysis.hpp"
+
+#include "timestepping/solver_setup.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace latticedyn {
+
+ModalAnalysis::ModalAnalysis(SystemAssembler& sa, ModalSettings settings) : sa_(sa), settings_(settings) {
+  PetscCallAbort(sa_.comm(), sa_.create_matrix(&K_));
+  PetscCallAbort(sa_.comm(), sa_.create_matrix(&M_));
+}
+
+ModalAnalysis::~ModalAnalysis() {
+  MatDestroy(&K_);
+  MatDestroy(&M_);
+}
+
+PetscErrorCode ModalAnalysis::solve(Vec U, double t, std::vector<Mode>* modes, std::string* message) {
+  PetscFunctionBeginUser;
+  EvaluationSettings how;
+  how.param = Parametrization::rotation_vector_rates;
+  how.constraint_scale = sa_.characteristic_stiffness();
+  const EvaluationPoint at{U, nullptr, nullptr, nullptr, t, t};
+  // The Jacobian always carries the multiplier columns G^T: M is the difference of two of them.
+  PetscCall(sa_.jacobian(at, how, 1.0, 0.0, 0.0, K_));
+  PetscCall(sa_.jacobian(at, how, 1.0, 0.0, 1.0, M_));
+  PetscCall(MatAXPY(M_, -1.0, K_, SAME_NONZERO_PATTERN));
+
+  EPS eps;
+  ST st;
+  KSP ksp;
+  PetscCall(EPSCreate(sa_.comm(), &eps));
+  PetscCall(EPSSetOperators(eps, K_, M_));
+  PetscCall(EPSSetProblemType(eps, EPS_GNHEP));  // the constraint rows make the pencil indefinite
+  PetscCall(EPSGetST(eps, &st));
+  PetscCall(STSetType(st, STSINVERT));
+  // A small negative shift keeps K - sigma M regular for free bodies (omega^2 = 0).
+  const double sigma = -1e-6 * sa_.characteristic_stiffness() / sa_.characteristic_mass();
+  PetscCall(EPSSetTarget(eps, sigma));
+  PetscCall(EPSSetWhichEigenpairs(eps, EPS_TARGET_MAGNITUDE));
+  PetscCall(EPSSetDimensions(eps, settings_.modes, PETSC_DEFAULT, PETSC_DEFAULT));
+  PetscCall(EPSSetTolerances(eps, settings_.tolerance, 1000));
+  PetscCall(STGetKSP(st, &ksp));
+  PetscCall(set_direct_solver_defaults(ksp));
+  PetscCall(EPSSetFromOptions(eps));  // -eps_ and -st_ options win
+  PetscCall(EPSSolve(eps));
+  PetscInt converged;
+  PetscCall(EPSGetConverged(eps, &converged));
+
+  std::vector<Mode> found;
+  for (PetscInt i = 0; i < converged; ++i) {
+    PetscScalar re, im;
+    Mode m;
+    PetscCall(MatCreateVecs(K_, &m.vector, nullptr));
+    PetscCall(EPSGetEigenpair(eps, i, &re, &im, m.vector, nullptr));
+    PetscReal err;
+    PetscCall(EPSComputeError(eps, i, EPS_ERROR_RELATIVE, &err));
+    m.omega2 = PetscRealPart(re);
+    m.frequency = m.omega2 > 0 ? std::sqrt(m.omega2) / (2 * std::numbers::pi) : 0.0;
+    m.residual = err;
+    PetscReal norm;
+    PetscCall(VecNorm(m.vector, NORM_INFINITY, &norm));
+    if (norm > 0) PetscCall(VecScale(m.vector, 1.0 / norm));
+    found.push_back(m);
+  }
+  PetscCall(EPSDestroy(&eps));
+  std::sort(found.begin(), found.end(), [](const Mode& a, const Mode& b) { return a.omega2 < b.omega2; });
+  const int wanted = std::min<int>(settings_.modes, static_cast<int>(found.size()));
+  for (std::size_t i = static_cast<std::size_t>(wanted); i < found.size(); ++i) PetscCall(VecDestroy(&found[i].vector));
+  found.resize(static_cast<std::size_t>(wanted));
+  *modes = std::move(found);
+  if (message)
+    *message = std::to_string(converged) + " eigenpairs converged, " + std::to_string(settings_.modes) + " wanted";
+  PetscFunctionReturn(0);
+}
+
+void destroy_modes(std::vector<Mode>& modes) {
+  for (Mode& m : modes) VecDestroy(&m.vector);
+  modes.clear();
+}
+
+}  // namespace latticedyn
