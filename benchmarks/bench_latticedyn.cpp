@@ -9,6 +9,7 @@
 #include "elements/cubic_spline_beam.hpp"
 #include "elements/rigid_body.hpp"
 #include "elements/strut_tie.hpp"
+#include "elements/super_truss.hpp"
 #include "elements/timoshenko_beam.hpp"
 #include "io/model_reader.hpp"
 #include "space_truss_model.hpp"
@@ -22,7 +23,23 @@
 namespace latticedyn {
 namespace {
 
-enum ElementKind { kRigidBody, kStrutTie, kTimoshenkoBeam, kCubicSplineBeam, kRope, kElementKinds };
+enum ElementKind { kRigidBody, kStrutTie, kTimoshenkoBeam, kCubicSplineBeam, kRope, kSuperTruss, kElementKinds };
+
+// The type 2 section of thesis Table D-3: 15 m, order 6, 56 members.
+TrussSectionSpec type2_section() {
+  TrussSectionSpec s;
+  s.length = 15.0;
+  s.order = 6;
+  s.end1 = {{1.5, 1.4}, {-1.5, 1.4}, {-1.5, -1.4}, {1.5, -1.4}};
+  s.end2 = s.end1;
+  s.main_beams = {{0, 0}, {1, 1}, {2, 2}, {3, 3}};
+  s.cross_beams1 = {{0, 1}, {1, 2}, {2, 3}, {3, 0}};
+  s.cross_beams2 = s.cross_beams1;
+  s.material = Material{7800, 2.06e11, 0.25};
+  s.main_section = s.cross_section = round_tube_section(0.1, 0.08);
+  s.sub_section = round_tube_section(0.05, 0.04);
+  return s;
+}
 
 std::unique_ptr<Element> make(int kind) {
   const Material steel{7800, 2.06e11, 0.3};
@@ -40,6 +57,10 @@ std::unique_ptr<Element> make(int kind) {
     p.rest_length = 1.5;
     p.smoothing = 1e-3;
     return std::make_unique<StrutTie>(p);
+  }
+  if (kind == kSuperTruss) {
+    const TrussSectionSpec spec = type2_section();
+    return std::make_unique<SuperTrussElement>(spec, build_truss_geometry(spec));
   }
   BeamProperties beam{steel, round_tube_section(0.05, 0.04), 1.5, 0.0};
   if (kind == kTimoshenkoBeam) return std::make_unique<TimoshenkoBeam>(beam);
@@ -64,7 +85,8 @@ std::vector<SlotState<double>> deformed_slots(const Element& e, unsigned seed) {
     s[k].vel = v3();
     s[k].acc = v3();
     s[k].rot = rotation_matrix<double>(0.1 * v3());
-    if (kinds[k] == SlotKind::translation) s[k].pos = Vec3(1.5 * translation++, 0, 0) + 0.01 * v3();
+    const double length = e.type_name() == "super_truss" ? 15.0 : 1.5;
+    if (kinds[k] == SlotKind::translation) s[k].pos = Vec3(length * translation++, 0, 0) + 0.01 * v3();
     if (kinds[k] == SlotKind::vector) s[k].pos = Vec3(1.001, 0, 0) + 0.01 * v3();
     if (kinds[k] == SlotKind::scalar) s[k].pos = Vec3(1.0 + 0.001 * u(rng), 0, 0);
   }

@@ -88,6 +88,11 @@ class SuperTrussElement final : public AutoDiffElement<SuperTrussElement, 12> {
     double m;
   };
 
+  /// Node velocity Jacobians in closed form: pd_n = Jp_n dq_e, w_n = Jw_n dq_e (dq_e = [v1, w1,
+  /// v2, w2]); internal nodes through the Hermite coordinates and the Cardan angle rates.
+  template <class S>
+  void node_jacobians(std::span<const SlotState<S>> s, std::vector<Eigen::Matrix<S, 3, 12>>& Jp,
+                      std::vector<Eigen::Matrix<S, 3, 12>>& Jw) const;
   template <class S>
   void node_kinematics(std::span<const SlotState<S>> s, const Vec3T<S>& v1, const Vec3T<S>& w1, const Vec3T<S>& v2,
                        const Vec3T<S>& w2, const Vec3T<S>& a1, const Vec3T<S>& dw1, const Vec3T<S>& a2,
@@ -205,16 +210,86 @@ void SuperTrussElement::compute_residual(std::span<const SlotState<S>> s, const 
     tau[n] = Jn * dw[n] + w[n].cross(Jn * w[n]);
   }
   for (const MassPair& mp : mass_pairs_) f[mp.a] += pdd[mp.b] * S(mp.m);
-  // Project with the Jacobians: column j is the node motion for unit velocity j.
-  const Vec3T<S> zero = Vec3T<S>::Zero();
-  std::vector<Vec3T<S>> pdj, wj;
-  for (int j = 0; j < 12; ++j) {
-    Vec3T<S> u[4] = {zero, zero, zero, zero};
-    u[j / 3](j % 3) = S(1.0);
-    node_kinematics<S>(s, u[0], u[1], u[2], u[3], zero, zero, zero, zero, nullptr, pdj, nullptr, wj, nullptr);
-    S rj(0.0);
-    for (std::size_t n = 0; n < nn; ++n) rj += f[n].dot(pdj[n]) + tau[n].dot(wj[n]);
-    r(j) = rj;
+  // Project with the velocity Jacobians (virtual power, 3-97..3-102).
+  std::vector<Eigen::Matrix<S, 3, 12>> Jp, Jw;
+  node_jacobians<S>(s, Jp, Jw);
+  r.setZero();
+  for (std::size_t n = 0; n < nn; ++n) r += Jp[n].transpose() * f[n] + Jw[n].transpose() * tau[n];
+}
+
+template <class S>
+void SuperTrussElement::node_jacobians(std::span<const SlotState<S>> s, std::vector<Eigen::Matrix<S, 3, 12>>& Jp,
+                                       std::vector<Eigen::Matrix<S, 3, 12>>& Jw) const {
+  using std::atan2;
+  using std::cos;
+  using std::sin;
+  using std::sqrt;
+  using Block = Eigen::Matrix<S, 3, 12>;
+  const Mat3T<S>& R1 = s[1].rot;
+  const Mat3T<S>& R2 = s[3].rot;
+  const Mat3T<S> I = Mat3T<S>::Identity();
+  auto skew_s = [](const Vec3T<S>& v) { return skew(v); };
+  Jp.assign(nodes_.size(), Block::Zero());
+  Jw.assign(nodes_.size(), Block::Zero());
+  // End nodes ride on their end frame: pd = v_i + R_i (w_i x s) = v_i - R_i skew(s) w_i.
+  for (std::size_t n = 0; n < nodes_.size(); ++n) {
+    const NodeData& nd = nodes_[n];
+    if (nd.end == 0) continue;
+    const int c = nd.end == 1 ? 0 : 6;
+    const Mat3T<S>& Ri = nd.end == 1 ? R1 : R2;
+    Jp[n].template block<3, 3>(0, c) = I;
+    Jp[n].template block<3, 3>(0, c + 3) = -Ri * skew_s(cast_to<S>(nd.offset));
+    Jw[n].template block<3, 3>(0, c + 3) = I;
+  }
+  for (const MainBeamData& mb : main_beams_) {
+    // Hermite coordinates X0..X3 and their velocity Jacobians.
+    const Vec3T<S> a = cast_to<S>(Vec3(mb.direction * mb.length));
+    const Mat3T<S> F = cast_to<S>(mb.frame);
+    const Vec3T<S> X0 = s[0].pos + R1 * cast_to<S>(nodes_[mb.start].offset);
+    const Vec3T<S> X2 = s[2].pos + R2 * cast_to<S>(nodes_[mb.end].offset);
+    const Vec3T<S> X1 = R1 * a, X3 = R2 * a;
+    Block dX0 = Jp[mb.start], dX2 = Jp[mb.end], dX1 = Block::Zero(), dX3 = Block::Zero();
+    dX1.template block<3, 3>(0, 3) = -R1 * skew_s(a);
+    dX3.template block<3, 3>(0, 9) = -R2 * skew_s(a);
+    const Mat3T<S> A = R1 * F, B = R2 * F;
+    const Mat3T<S> C12 = A.transpose() * B;
+    // d(phi12)/dq_e from C12' = -skew(wA) C12 + C12 skew(wB), wA = F^T w1, wB = F^T w2.
+    const S c21 = C12(2, 1), c22 = C12(2, 2), q = c21 * c21 + c22 * c22;
+    Eigen::Matrix<S, 1, 12> dphi12 = Eigen::Matrix<S, 1, 12>::Zero();
+    for (int l = 0; l < 3; ++l) {
+      const Mat3T<S> Sl = skew_s(Vec3T<S>::Unit(l));
+      const Mat3T<S> dA = -Sl * C12, dB = C12 * Sl;  // per unit wA_l, wB_l
+      const S gA = (c22 * dA(2, 1) - c21 * dA(2, 2)) / q, gB = (c22 * dB(2, 1) - c21 * dB(2, 2)) / q;
+      for (int k = 0; k < 3; ++k) {
+        dphi12(3 + k) += gA * F(k, l);  // wA = F^T w1: d/dw1_k = sum_l d/dwA_l F(k, l)
+        dphi12(9 + k) += gB * F(k, l);
+      }
+    }
+    const S phi12 = atan2(c21, c22);
+    for (int n : mb.internal) {
+      const double x = nodes_[n].xi, x2 = x * x, x3 = x2 * x;
+      const double h0 = 1 - 3 * x2 + 2 * x3, h1 = x - 2 * x2 + x3, h2 = 3 * x2 - 2 * x3, h3 = x3 - x2;
+      const double g0 = -6 * x + 6 * x2, g1 = 1 - 4 * x + 3 * x2, g2 = 6 * x - 6 * x2, g3 = 3 * x2 - 2 * x;
+      Jp[n] = dX0 * S(h0) + dX1 * S(h1) + dX2 * S(h2) + dX3 * S(h3);
+      const Vec3T<S> rp = X0 * S(g0) + X1 * S(g1) + X2 * S(g2) + X3 * S(g3);
+      const Block D = dX0 * S(g0) + dX1 * S(g1) + dX2 * S(g2) + dX3 * S(g3);
+      const Vec3T<S> m = A.transpose() * rp;
+      // m' = A^T rp' + m x wA.
+      Block E1 = Block::Zero();
+      E1.template block<3, 3>(0, 3) = F.transpose();
+      const Block dm = A.transpose() * D + skew_s(m) * E1;
+      const S rho2 = m(0) * m(0) + m(1) * m(1), rho = sqrt(rho2), mm = rho2 + m(2) * m(2);
+      const Eigen::Matrix<S, 1, 3> gtheta(-m(1) / rho2, m(0) / rho2, S(0.0));
+      const Eigen::Matrix<S, 1, 3> gpsi(m(2) * m(0) / (rho * mm), m(2) * m(1) / (rho * mm), -rho / mm);
+      const S psi = atan2(-m(2), rho), theta = atan2(m(1), m(0)), phi = phi12 * x;
+      const Eigen::Matrix<S, 1, 12> dtheta = gtheta * dm, dpsi = gpsi * dm, dphi = dphi12 * S(x);
+      const Mat3T<S> C = rotation_z<S>(theta) * rotation_y<S>(psi) * rotation_x<S>(phi);
+      const S sf = sin(phi), cf = cos(phi), sp = sin(psi), cp = cos(psi);
+      Jw[n] = C.transpose() * E1;
+      Jw[n].row(0) += dphi - dtheta * sp;
+      Jw[n].row(1) += dpsi * cf + dtheta * (sf * cp);
+      Jw[n].row(2) += dpsi * (-sf) + dtheta * (cf * cp);
+    }
   }
 }
 
