@@ -4,6 +4,7 @@
 // global vector (reverse scatter) and matrix (MatSetValues, ADD_VALUES).
 #include "assembly/system_assembler.hpp"
 
+#include "assembly/element_loop.hpp"
 #include "assembly/nodal_load.hpp"
 #include "core/rotation.hpp"
 
@@ -64,6 +65,20 @@ SystemAssembler::SystemAssembler(const Model& model, MPI_Comm comm)
     for (int i = 0; i < model_.constraints[c].rows(); ++i) global_index.push_back(dofs_.multiplier_dof(c) + i);
   }
   local_size_ = static_cast<int>(global_index.size());
+  threads_ = element_threads(comm_);
+  const std::vector<int>& elements = dofs_.local_elements();
+  buffer_of_.assign(elements.size(), -1);
+  for (std::size_t i = 0; i < elements.size(); ++i)
+    if (threads_ > 1 && model_.elements[elements[i]].element->expensive()) {
+      buffer_of_[i] = static_cast<int>(threaded_.size());
+      threaded_.push_back(static_cast<int>(i));
+    }
+  if (threaded_.size() < 2) {  // nothing to share out
+    threaded_.clear();
+    buffer_of_.assign(elements.size(), -1);
+  }
+  element_residuals_.resize(threaded_.size());
+  element_tangents_.resize(threaded_.size());
 
   PetscCallAbort(comm_, VecCreateMPI(comm_, dofs_.owned_size(), dofs_.global_size(), &global_template_));
   for (Vec* v : {&u_loc_, &v_loc_, &a_loc_, &uc_loc_, &r_loc_})
@@ -227,14 +242,22 @@ PetscErrorCode SystemAssembler::residual(const EvaluationPoint& at, const Evalua
   PetscCall(VecGetArray(r_loc_, &r));
 
   const ElementContext ctx{how.load_scale * model_.gravity, at.t};
-  VecX re;
-  std::vector<SlotState<double>> slots;
-  for (int e : dofs_.local_elements()) {
-    const ElementEntry& entry = model_.elements[e];
-    const auto kinds = entry.element->slots();
+  const std::vector<int>& elements = dofs_.local_elements();
+  auto evaluate = [&](int i, VecX& re) {
+    const ElementEntry& entry = model_.elements[elements[i]];
+    thread_local std::vector<SlotState<double>> slots;
     gather_slots(entry, state_, slots);
     re.resize(entry.element->num_dofs());
     entry.element->residual(slots, ctx, re);
+  };
+  parallel_for_each(static_cast<int>(threaded_.size()), threads_,
+                    [&](int k) { evaluate(threaded_[k], element_residuals_[k]); });
+  VecX inline_re;
+  for (std::size_t i = 0; i < elements.size(); ++i) {
+    const ElementEntry& entry = model_.elements[elements[i]];
+    const auto kinds = entry.element->slots();
+    if (buffer_of_[i] < 0) evaluate(static_cast<int>(i), inline_re);
+    const VecX& re = buffer_of_[i] < 0 ? inline_re : element_residuals_[buffer_of_[i]];
     int o = 0;
     for (std::size_t k = 0; k < kinds.size(); ++k) {
       const int n = slot_size(kinds[k]);
@@ -334,8 +357,6 @@ PetscErrorCode SystemAssembler::jacobian(const EvaluationPoint& at, const Evalua
   // y: the residual in omega-variables per rotation block, for the derivative of T^T(phi) y.
   std::vector<Vec3> y(model_.blocks.size(), Vec3::Zero());
   const ElementContext ctx{how.load_scale * model_.gravity, at.t};
-  ElementTangents t;
-  std::vector<SlotState<double>> slots;
   std::vector<PetscInt> idx;
   RowMajor Je;
 
@@ -352,13 +373,23 @@ PetscErrorCode SystemAssembler::jacobian(const EvaluationPoint& at, const Evalua
     return m;
   };
 
-  std::array<int, 16> offs{};
-  for (int e : dofs_.local_elements()) {
-    const ElementEntry& entry = model_.elements[e];
-    const auto kinds = entry.element->slots();
+  const std::vector<int>& elements = dofs_.local_elements();
+  auto evaluate = [&](int i, ElementTangents& t) {
+    const ElementEntry& entry = model_.elements[elements[i]];
+    thread_local std::vector<SlotState<double>> slots;
     gather_slots(entry, state_, slots);
     entry.element->tangents(slots, ctx, t);
     to_block_frame(entry, t);
+  };
+  parallel_for_each(static_cast<int>(threaded_.size()), threads_,
+                    [&](int k) { evaluate(threaded_[k], element_tangents_[k]); });
+  ElementTangents inline_t;
+  std::array<int, 16> offs{};
+  for (std::size_t i = 0; i < elements.size(); ++i) {
+    const ElementEntry& entry = model_.elements[elements[i]];
+    const auto kinds = entry.element->slots();
+    if (buffer_of_[i] < 0) evaluate(static_cast<int>(i), inline_t);
+    const ElementTangents& t = buffer_of_[i] < 0 ? inline_t : element_tangents_[buffer_of_[i]];
     const int n = entry.element->num_dofs();
     Je.setZero(n, n);
     idx.assign(n, -1);

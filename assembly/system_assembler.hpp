@@ -103,6 +103,13 @@ class SystemAssembler {
   std::vector<Vec3> phi_;     // rotation vectors of needed rotation blocks
   double mass_scale_ = 1.0;
   double stiffness_scale_ = 1.0;
+  // Expensive elements are evaluated on threads_ threads into buffers first (element_loop.hpp);
+  // cheap ones inline, where a thread would cost more than it saves.
+  int threads_ = 1;
+  std::vector<int> threaded_;         // positions in local_elements() of the threaded elements
+  std::vector<int> buffer_of_;        // per position in local_elements(): its buffer, or -1
+  std::vector<VecX> element_residuals_;            // per threaded element
+  std::vector<ElementTangents> element_tangents_;  // per threaded element
 };
 
 }  // namespace latticedyn

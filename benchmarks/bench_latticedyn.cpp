@@ -18,7 +18,9 @@
 #include <benchmark/benchmark.h>
 #include <slepcsys.h>
 
+#include <fstream>
 #include <random>
+#include <sstream>
 
 namespace latticedyn {
 namespace {
@@ -160,6 +162,31 @@ void BM_ConstraintRevolute(benchmark::State& st) {
 }
 BENCHMARK(BM_ConstraintRevolute)->Arg(0)->Arg(1);
 
+// Times generalized-alpha steps of size h from the state U, V (the start-up step is not timed);
+// counts Newton iterations per step.
+void time_steps(benchmark::State& st, SystemAssembler& sa, Vec U, Vec V, double h, double rho_infinity) {
+  DynamicSettings s;
+  s.t_end = 1e6;
+  s.time_step = h;
+  s.rho_infinity = rho_infinity;
+  GeneralizedAlphaIntegrator integrator(sa, s);
+  TS ts = integrator.ts();
+  TS2SetSolution(ts, U, V);
+  TSSetUp(ts);
+  TSRestartStep(ts);
+  TSStep(ts);
+  PetscInt its0;
+  TSGetSNESIterations(ts, &its0);
+  long steps = 0;
+  for (auto _ : st) {
+    TSStep(ts);
+    ++steps;
+  }
+  PetscInt its;
+  TSGetSNESIterations(ts, &its);
+  st.counters["newton_per_step"] = static_cast<double>(its - its0) / static_cast<double>(std::max(1L, steps));
+}
+
 // One generalized-alpha step of the beam of thesis Table 8-1 (L = 15 m, solid r = 0.15 m) as a
 // 10-segment cantilever swinging under its weight (the self-weight study), per beam type.
 void BM_CantileverImplicitStep(benchmark::State& st) {
@@ -179,26 +206,7 @@ constraints:
   sa.create_vector(&U);
   sa.create_vector(&V);
   sa.initial_state(U, V);
-  DynamicSettings s;
-  s.t_end = 1e6;
-  s.time_step = 4e-3;
-  s.rho_infinity = 1.0;
-  GeneralizedAlphaIntegrator integrator(sa, s);
-  TS ts = integrator.ts();
-  TS2SetSolution(ts, U, V);
-  TSSetUp(ts);
-  TSRestartStep(ts);
-  TSStep(ts);
-  PetscInt its0;
-  TSGetSNESIterations(ts, &its0);
-  long steps = 0;
-  for (auto _ : st) {
-    TSStep(ts);
-    ++steps;
-  }
-  PetscInt its;
-  TSGetSNESIterations(ts, &its);
-  st.counters["newton_per_step"] = static_cast<double>(its - its0) / static_cast<double>(std::max(1L, steps));
+  time_steps(st, sa, U, V, 4e-3, 1.0);
   st.SetLabel(type + ", 10 segments, " + std::to_string(sa.dofs().global_size()) + " unknowns");
   VecDestroy(&U);
   VecDestroy(&V);
@@ -253,30 +261,53 @@ void BM_TrussImplicitStep(benchmark::State& st) {
   const char* solver = solvers[st.range(0)];
   PetscOptionsSetValue(nullptr, "-pc_factor_mat_solver_type", solver);
   Truss t;
-  DynamicSettings s;
-  s.t_end = 1e6;
-  s.time_step = 1e-3;
-  s.rho_infinity = 0.8;
-  GeneralizedAlphaIntegrator integrator(t.sa, s);
-  TS ts = integrator.ts();
-  TS2SetSolution(ts, t.U, t.V);
-  TSSetUp(ts);
-  TSRestartStep(ts);
-  TSStep(ts);  // the start-up step is not timed
-  PetscInt its0;
-  TSGetSNESIterations(ts, &its0);
-  long steps = 0;
-  for (auto _ : st) {
-    TSStep(ts);
-    ++steps;
-  }
-  PetscInt its;
-  TSGetSNESIterations(ts, &its);
-  st.counters["newton_per_step"] = static_cast<double>(its - its0) / static_cast<double>(std::max(1L, steps));
+  time_steps(st, t.sa, t.U, t.V, 1e-3, 0.8);
   st.SetLabel(t.label() + ", " + solver);
   PetscOptionsClearValue(nullptr, "-pc_factor_mat_solver_type");
 }
 BENCHMARK(BM_TrussImplicitStep)->DenseRange(0, 3)->Unit(benchmark::kMillisecond);
+
+// One generalized-alpha step of a lattice cantilever as the full model (every member a
+// Timoshenko beam) and as super truss elements: the type 2 section of Table D-3 (15 m) and the
+// whole main boom (types 1, 2, 2, 2, 3, 55 m), the sections taken from examples/main_boom.yaml.
+// Arguments: 0/1 type 2 full/reduced, 2/3 main boom full/reduced. Settings of the reduction study
+// (verification/studies/lattice_*.yaml): horizontal, clamped at end 1, 1 % of g.
+void BM_LatticeImplicitStep(benchmark::State& st) {
+  const bool reduced = st.range(0) % 2 == 1, boom = st.range(0) >= 2;
+  const std::string type = reduced ? "super_truss" : "lattice";
+  std::ifstream in(std::string(LATTICEDYN_SOURCE_DIR) + "/examples/main_boom.yaml");
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string yaml = text.str();
+  yaml = yaml.substr(yaml.find("materials:"), yaml.find("ground:") - yaml.find("materials:"));
+  yaml += "gravity: [0, 0, -0.0981]\nground: {joints: [{name: root}]}\nbodies:\n";
+  if (boom) {
+    const char* parts[][2] = {{"foot", "type1"}, {"s1", "type2"}, {"s2", "type2"}, {"s3", "type2"}, {"top", "type3"}};
+    const double at[] = {0, 5, 20, 35, 50};
+    for (int k = 0; k < 5; ++k)
+      yaml += "  - {name: " + std::string(parts[k][0]) + ", type: " + type + ", section: " + parts[k][1] +
+              ", position: [" + std::to_string(at[k]) + ", 0, 0]}\n";
+    yaml += "constraints:\n  - {name: clamp, type: fixed, joints: [ground.root, foot.1]}\n";
+    for (int k = 0; k < 4; ++k)
+      yaml += "  - {name: splice" + std::to_string(k) + ", type: fixed, joints: [" + parts[k][0] + ".2, " +
+              parts[k + 1][0] + ".1], shared: true}\n";
+  } else {
+    yaml += "  - {name: boom, type: " + type + ", section: type2}\n";
+    yaml += "constraints:\n  - {name: clamp, type: fixed, joints: [ground.root, boom.1]}\n";
+  }
+  const Simulation sim = read_simulation_from_string(yaml, "lattice_step.yaml");
+  SystemAssembler sa(sim.model, PETSC_COMM_WORLD);
+  Vec U, V;
+  sa.create_vector(&U);
+  sa.create_vector(&V);
+  sa.initial_state(U, V);
+  time_steps(st, sa, U, V, boom ? 0.01 : 0.002, 0.8);
+  st.SetLabel(std::string(boom ? "main boom" : "type 2 section") + ", " + type + ", " +
+              std::to_string(sa.dofs().global_size()) + " unknowns");
+  VecDestroy(&U);
+  VecDestroy(&V);
+}
+BENCHMARK(BM_LatticeImplicitStep)->DenseRange(0, 3)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace latticedyn

@@ -4,6 +4,9 @@
 
 #include "drivers/observers.hpp"
 #include "drivers/simulation.hpp"
+#include "timestepping/modal_analysis.hpp"
+
+#include <fstream>
 
 #include <cstdio>
 #include <map>
@@ -164,6 +167,78 @@ int command_check(const Simulation& sim, MPI_Comm comm) {
 
 int command_static(Simulation& sim, const CommandOptions& opt, MPI_Comm comm) {
   return command_solve(sim, opt, comm, true, false);
+}
+
+int command_modes(Simulation& sim, const CommandOptions& opt, MPI_Comm comm) {
+  if (!opt.output_directory.empty()) sim.output.directory = opt.output_directory;
+  print_root(comm, describe_model(sim.model));
+  std::string error;
+  auto writer = open_writer(sim, opt, comm, &error);
+  if (!error.empty()) {
+    error_root(comm, error);
+    return kInputError;
+  }
+  SystemAssembler sa(sim.model, comm);
+  Vec U, V, W;
+  PetscCallAbort(comm, sa.create_vector(&U));
+  PetscCallAbort(comm, sa.create_vector(&V));
+  PetscCallAbort(comm, sa.initial_state(U, V));
+  SimulationOutcome outcome;
+  std::vector<Mode> modes;
+  std::string message;
+  PetscCallAbort(comm, equilibrium_modes(sim, sa, U, V, opt.modes, &modes, &outcome, &message));
+  if (!outcome.statics.converged) {
+    error_root(comm, outcome.statics.message + " (the modes need the equilibrium to linearise about)");
+    VecDestroy(&U);
+    VecDestroy(&V);
+    return kSolverFailure;
+  }
+  print_root(comm, outcome.statics.message + "\n");
+  const double t = sim.statics.time;
+  // Output step 0: the equilibrium; step k: the equilibrium plus mode k scaled so that its largest
+  // coordinate is 5 % of the model's size (rotations included), for ParaView.
+  ModelState state(sim.model, sa.dofs());
+  PetscCallAbort(comm, sa.gather(t, U, V, nullptr, Parametrization::rotation_vector_rates, &state));
+  double size = 1.0;
+  if (is_root(comm)) {
+    Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
+    for (std::size_t b = 0; b < sim.model.blocks.size(); ++b)
+      if (sim.model.blocks[b].kind == SlotKind::translation) {
+        lo = lo.cwiseMin(state.block(static_cast<int>(b)).pos);
+        hi = hi.cwiseMax(state.block(static_cast<int>(b)).pos);
+      }
+    size = std::max(1e-6, (hi - lo).maxCoeff());
+  }
+  MPI_Bcast(&size, 1, MPI_DOUBLE, 0, comm);
+  if (writer) writer->append(state);
+  PetscCallAbort(comm, VecDuplicate(U, &W));
+  std::string table = "mode  frequency (Hz)  omega^2 (1/s^2)  relative residual\n";
+  for (std::size_t k = 0; k < modes.size(); ++k) {
+    char line[128];
+    std::snprintf(line, sizeof line, "%4zu  %14.6g  %15.6g  %.1e\n", k + 1, modes[k].frequency, modes[k].omega2,
+                  modes[k].residual);
+    table += line;
+    // The mode is in velocity variables; for the drawing add it to the coordinates (rotation
+    // vectors, equal to first order near the reference orientation).
+    PetscCallAbort(comm, VecWAXPY(W, 0.05 * size, modes[k].vector, U));
+    PetscCallAbort(comm, sa.gather(static_cast<double>(k + 1), W, V, nullptr, Parametrization::rotation_vector_rates, &state));
+    if (writer) writer->append(state);
+  }
+  if (writer && is_root(comm)) {
+    const auto csv = writer->h5_path().parent_path() / (sim.output.name + "_modes.csv");
+    std::ofstream f(csv);
+    f << "mode,frequency_hz,omega2\n";
+    for (std::size_t k = 0; k < modes.size(); ++k) f << k + 1 << "," << modes[k].frequency << "," << modes[k].omega2 << "\n";
+    table += "frequencies: " + csv.string() + "\n";
+  }
+  if (static_cast<int>(modes.size()) < opt.modes) table += "warning: " + message + "\n";
+  print_root(comm, table + "mode shapes: output steps 1.." + std::to_string(modes.size()) +
+                       " (step 0: the equilibrium), 5 % of the model's size\n" + where_results(writer.get()));
+  destroy_modes(modes);
+  VecDestroy(&U);
+  VecDestroy(&V);
+  VecDestroy(&W);
+  return kSuccess;
 }
 
 int command_run(Simulation& sim, const CommandOptions& opt, MPI_Comm comm) {

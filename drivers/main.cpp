@@ -7,6 +7,7 @@
 #include <slepcsys.h>
 
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <string>
 #include <vector>
@@ -19,6 +20,7 @@ const char* kUsage =
     "  check    validate the model and describe it\n"
     "  static   find the static equilibrium and write it\n"
     "  run      static equilibrium if the model asks for it, then the dynamics\n"
+    "  modes    static equilibrium, then the lowest natural frequencies and mode shapes (--modes N, default 6)\n"
     "  help     this text\n"
     "Every other option goes to PETSc, e.g. -ts_adapt_type basic, -snes_monitor, -pc_factor_mat_solver_type\n"
     "umfpack, -log_view. Results go to the model's output.directory (default results/<model name>).\n";
@@ -32,7 +34,7 @@ int main(int argc, char** argv) {
     return argc < 2 ? kInputError : kSuccess;
   }
   const std::string command = argv[1];
-  if (command != "check" && command != "static" && command != "run") {
+  if (command != "check" && command != "static" && command != "run" && command != "modes") {
     std::fprintf(stderr, "latticedyn: error: unknown command '%s'\n%s", command.c_str(), kUsage);
     return kInputError;
   }
@@ -45,6 +47,12 @@ int main(int argc, char** argv) {
         return kInputError;
       }
       options.output_directory = argv[++i];
+    } else if (!std::strcmp(argv[i], "--modes")) {
+      if (i + 1 >= argc || std::atoi(argv[i + 1]) < 1) {
+        std::fprintf(stderr, "latticedyn: error: --modes needs a positive number\n");
+        return kInputError;
+      }
+      options.modes = std::atoi(argv[++i]);
     } else if (i == 2 && argv[i][0] != '-') {
       options.model_path = argv[i];  // right after the command, so option values are never taken for it
     } else {
@@ -78,6 +86,7 @@ int main(int argc, char** argv) {
     if (command == "check") code = command_check(sim, PETSC_COMM_WORLD);
     if (command == "static") code = command_static(sim, options, PETSC_COMM_WORLD);
     if (command == "run") code = command_run(sim, options, PETSC_COMM_WORLD);
+    if (command == "modes") code = command_modes(sim, options, PETSC_COMM_WORLD);
   } catch (const InputError& e) {
     if (rank == 0) std::fprintf(stderr, "latticedyn: error: %s\n", e.what());
     code = kInputError;

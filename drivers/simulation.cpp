@@ -33,4 +33,15 @@ PetscErrorCode simulate(Simulation& sim, SystemAssembler& sa, Vec U, Vec V, bool
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode equilibrium_modes(Simulation& sim, SystemAssembler& sa, Vec U, Vec V, int count,
+                                 std::vector<Mode>* modes, SimulationOutcome* outcome, std::string* message) {
+  PetscFunctionBeginUser;
+  modes->clear();
+  PetscCall(simulate(sim, sa, U, V, true, false, nullptr, outcome));
+  if (!outcome->statics.converged) PetscFunctionReturn(0);
+  ModalAnalysis modal(sa, ModalSettings{count, 1e-10});
+  PetscCall(modal.solve(U, sim.statics.time, modes, message));
+  PetscFunctionReturn(0);
+}
+
 }  // namespace latticedyn

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "io/model_reader.hpp"
+#include "timestepping/modal_analysis.hpp"
 #include "timestepping/solver_setup.hpp"
 
 namespace latticedyn {
@@ -21,5 +22,12 @@ struct SimulationOutcome {
 /// dynamics are skipped when the equilibrium fails. Collective.
 PetscErrorCode simulate(Simulation& sim, SystemAssembler& sa, Vec U, Vec V, bool statics, bool dynamics,
                         StepObserver* observer, SimulationOutcome* outcome);
+
+/// The static equilibrium (as `simulate` with statics only), then the lowest `count` natural
+/// modes about it. U, V: the initial state in, the equilibrium out. `modes` stays empty when the
+/// statics fail (outcome says why); fewer than `count` modes come with a reason in `message`.
+/// The caller destroys the modes (destroy_modes). Collective.
+PetscErrorCode equilibrium_modes(Simulation& sim, SystemAssembler& sa, Vec U, Vec V, int count,
+                                 std::vector<Mode>* modes, SimulationOutcome* outcome, std::string* message);
 
 }  // namespace latticedyn

@@ -34,6 +34,7 @@ class CubicSplineBeam final : public AutoDiffElement<CubicSplineBeam, 14> {
   explicit CubicSplineBeam(const CubicSplineBeamProperties& p);
 
   std::string_view type_name() const override { return "cubic_spline_beam"; }
+  bool expensive() const override { return true; }
   void residual(std::span<const SlotState<double>> state, const ElementContext& ctx,
                 Eigen::Ref<VecX> r) const override;
   void tangents(std::span<const SlotState<double>> state, const ElementContext& ctx,

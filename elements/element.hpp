@@ -65,6 +65,9 @@ class Element {
   virtual ~Element() = default;
 
   virtual std::string_view type_name() const = 0;
+  /// Whether one evaluation takes microseconds or more (AD tangents of beams, the super truss's
+  /// member loop): such elements are worth handing to another thread; strut ties are not.
+  virtual bool expensive() const { return false; }
   /// Kinds of the DoF slots, in the order of the local residual.
   virtual std::span<const SlotKind> slots() const = 0;
   int num_dofs() const;
@@ -89,6 +92,12 @@ class Element {
   virtual std::vector<std::vector<Vec3>> axis_polylines(std::span<const SlotState<double>> state,
                                                         const ElementContext& ctx) const {
     return {axis_points(state, ctx)};
+  }
+  /// Axial force of each polyline of axis_polylines (tension positive), for elements that stand
+  /// for many bars; empty (the default) draws every polyline with axial_force.
+  virtual std::vector<double> polyline_axial_forces(std::span<const SlotState<double>> /*state*/,
+                                                    const ElementContext& /*ctx*/) const {
+    return {};
   }
 };
 

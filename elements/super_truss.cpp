@@ -4,6 +4,8 @@
 
 #include "elements/energy_ad.hpp"
 
+#include <omp.h>
+
 #include <map>
 #include <stdexcept>
 
@@ -13,7 +15,7 @@ namespace {
 using TrussAD = EnergyAD<12>;  // r1 (0..2), rotation 1 (3..5), r2 (6..8), rotation 2 (9..11): the DoF order
 }
 
-SuperTrussElement::SuperTrussElement(const TrussSectionSpec& spec, const TrussGeometry& g) : spec_(spec) {
+SuperTrussElement::SuperTrussElement(const TrussSectionSpec& spec, const TrussGeometry& g) : spec_(spec), geometry_(g) {
   spec_.validate();
   const int n1 = static_cast<int>(spec.end1.size());
   const Vec3 end2_origin(spec.length, 0, 0);
@@ -79,10 +81,30 @@ void SuperTrussElement::residual(std::span<const SlotState<double>> s, const Ele
 
 void SuperTrussElement::tangents(std::span<const SlotState<double>> s, const ElementContext& ctx,
                                  ElementTangents& out) const {
-  AutoDiffElement::tangents(s, ctx, out);
   TrussAD::SecondOrder ad;
   using S = decltype(ad)::S;
-  const S U = strain_energy<S>(ad.vec(s[0].pos, 0), ad.rot(s[1].rot, 3), ad.vec(s[2].pos, 6), ad.rot(s[3].rot, 9));
+  std::vector<Vec3T<S>> p;
+  std::vector<Mat3T<S>> R;
+  node_map<S>(ad.vec(s[0].pos, 0), ad.rot(s[1].rot, 3), ad.vec(s[2].pos, 6), ad.rot(s[3].rot, 9), p, R);
+  // The inertial part and chunks of the member loop are independent (members do not affect each
+  // other, Figure 3-2): tasks on the threads OpenMP gives a region here, which is one when the
+  // assembler already evaluates several elements in parallel.
+  const int threads = omp_in_parallel() ? 1 : omp_get_max_threads();
+  const int chunks = threads > 1 ? 2 * threads : 1;
+  const int nm = static_cast<int>(members_.size());
+  std::vector<S> partial(chunks, S(0.0));
+#pragma omp parallel num_threads(threads) if (threads > 1)
+#pragma omp single
+  {
+#pragma omp task
+    AutoDiffElement::tangents(s, ctx, out);
+    for (int c = 0; c < chunks; ++c) {
+#pragma omp task firstprivate(c)
+      partial[c] = member_energy<S>(p, R, c * nm / chunks, (c + 1) * nm / chunks);
+    }
+  }
+  S U = partial[0];
+  for (int c = 1; c < chunks; ++c) U += partial[c];
   TrussAD::Gradient g;
   TrussAD::Stiffness K;
   TrussAD::extract(U, ad, nullptr, &g, &K);
@@ -117,6 +139,16 @@ std::vector<double> SuperTrussElement::member_axial_forces(std::span<const SlotS
     const BeamProperties& b = m.beam->properties();
     out.push_back(b.material.youngs_modulus * b.section.area * ((p[m.b] - p[m.a]).norm() - b.length) / b.length);
   }
+  return out;
+}
+
+std::vector<Vec3> SuperTrussElement::node_velocities(std::span<const SlotState<double>> s) const {
+  std::vector<Eigen::Matrix<double, 3, 12>> Jp, Jw;
+  node_jacobians<double>(s, Jp, Jw);
+  Eigen::Matrix<double, 12, 1> dq;
+  dq << s[0].vel, s[1].vel, s[2].vel, s[3].vel;
+  std::vector<Vec3> out;
+  for (const auto& J : Jp) out.push_back(J * dq);
   return out;
 }
 

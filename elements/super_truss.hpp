@@ -35,6 +35,7 @@ class SuperTrussElement final : public AutoDiffElement<SuperTrussElement, 12> {
   SuperTrussElement(const TrussSectionSpec& spec, const TrussGeometry& geometry);
 
   std::string_view type_name() const override { return "super_truss"; }
+  bool expensive() const override { return true; }
   void residual(std::span<const SlotState<double>> state, const ElementContext& ctx,
                 Eigen::Ref<VecX> r) const override;
   void tangents(std::span<const SlotState<double>> state, const ElementContext& ctx,
@@ -43,16 +44,24 @@ class SuperTrussElement final : public AutoDiffElement<SuperTrussElement, 12> {
   /// The members' axes, end to end (one polyline through every member would need repeats; the
   /// drawing takes the members as separate lines: see member_lines).
   std::vector<Vec3> axis_points(std::span<const SlotState<double>> state, const ElementContext& ctx) const override;
+  std::vector<double> polyline_axial_forces(std::span<const SlotState<double>> state,
+                                            const ElementContext&) const override {
+    return member_axial_forces(state);
+  }
   std::vector<std::vector<Vec3>> axis_polylines(std::span<const SlotState<double>> state,
                                                 const ElementContext& ctx) const override;
 
   int num_nodes() const { return static_cast<int>(nodes_.size()); }
+  /// The lattice this element stands for (members in the order of member_axial_forces).
+  const TrussGeometry& geometry() const { return geometry_; }
   int num_members() const { return static_cast<int>(members_.size()); }
   /// Positions and orientations of the lattice nodes for end-section states (for tests, drawing
   /// and the comparison with the full model).
   void node_poses(std::span<const SlotState<double>> state, std::vector<Vec3>& p, std::vector<Mat3>& R) const;
   /// The axial force of every member (Timoshenko: E A (l - L0) / L0) at a state.
   std::vector<double> member_axial_forces(std::span<const SlotState<double>> state) const;
+  /// Velocities of the lattice nodes for the end sections' velocities in `state`.
+  std::vector<Vec3> node_velocities(std::span<const SlotState<double>> state) const;
 
   template <class S>
   void compute_residual(std::span<const SlotState<S>> s, const ElementContext& ctx, Eigen::Matrix<S, 12, 1>& r) const;
@@ -61,6 +70,9 @@ class SuperTrussElement final : public AutoDiffElement<SuperTrussElement, 12> {
                 std::vector<Vec3T<T>>& p, std::vector<Mat3T<T>>& R) const;
   template <class T>
   T strain_energy(const Vec3T<T>& r1, const Mat3T<T>& R1, const Vec3T<T>& r2, const Mat3T<T>& R2) const;
+  /// Strain energy of members [first, last) at the node poses p, R of node_map.
+  template <class T>
+  T member_energy(const std::vector<Vec3T<T>>& p, const std::vector<Mat3T<T>>& R, int first, int last) const;
 
  private:
   struct NodeData {
@@ -100,6 +112,7 @@ class SuperTrussElement final : public AutoDiffElement<SuperTrussElement, 12> {
                        std::vector<Vec3T<S>>* pdd, std::vector<Vec3T<S>>& w, std::vector<Vec3T<S>>* dw) const;
 
   TrussSectionSpec spec_;
+  TrussGeometry geometry_;
   std::vector<NodeData> nodes_;
   std::vector<Mat3> node_frames_;  ///< undeformed node frames in the truss frame
   std::vector<MainBeamData> main_beams_;
@@ -150,9 +163,17 @@ T SuperTrussElement::strain_energy(const Vec3T<T>& r1, const Mat3T<T>& R1, const
   std::vector<Vec3T<T>> p;
   std::vector<Mat3T<T>> R;
   node_map<T>(r1, R1, r2, R2, p, R);
+  return member_energy<T>(p, R, 0, static_cast<int>(members_.size()));
+}
+
+template <class T>
+T SuperTrussElement::member_energy(const std::vector<Vec3T<T>>& p, const std::vector<Mat3T<T>>& R, int first,
+                                   int last) const {
   T U(0.0);
-  for (const MemberData& m : members_)
+  for (int k = first; k < last; ++k) {
+    const MemberData& m = members_[k];
     U += m.beam->strain_energy<T>(Vec3T<T>(p[m.b] - p[m.a]), Mat3T<T>(R[m.a] * m.offset_a), Mat3T<T>(R[m.b] * m.offset_b));
+  }
   return U;
 }
 

@@ -41,6 +41,7 @@ class TimoshenkoBeam final : public Element {
   explicit TimoshenkoBeam(const BeamProperties& p);
 
   std::string_view type_name() const override { return "timoshenko_beam"; }
+  bool expensive() const override { return true; }
   std::span<const SlotKind> slots() const override { return kSlots; }
   void residual(std::span<const SlotState<double>> state, const ElementContext& ctx,
                 Eigen::Ref<VecX> r) const override;

@@ -72,6 +72,7 @@ struct ResultWriter::Impl {
   // Evaluated once per append, read by several outputs.
   std::optional<io::VizGeometry> viz;
   std::vector<double> axial;    // per element, NaN without an axial force
+  std::vector<std::vector<double>> polyline_axial;  // per element, per drawn member (super truss)
   ElementEnergy energy;
   std::vector<double> points;   // viz points, 3 per point
   std::vector<double> points0;  // at the first append
@@ -309,7 +310,16 @@ void ResultWriter::Impl::create_viz() {
   });
   add(g.get(), "axial_force", {nl}, "N", [this](const ModelState&, double* out) {
     const auto& element = viz->line_element();
-    for (std::size_t l = 0; l < element.size(); ++l) out[l] = element[l] >= 0 ? axial[element[l]] : 0.0;
+    const auto& polyline = viz->line_polyline();
+    for (std::size_t l = 0; l < element.size(); ++l) {
+      const int e = element[l];
+      if (e < 0)
+        out[l] = 0.0;
+      else if (!polyline_axial[e].empty())
+        out[l] = polyline_axial[e].at(static_cast<std::size_t>(polyline[l]));
+      else
+        out[l] = axial[e];
+    }
   });
   document.emplace(io::XdmfLayout{h5.filename().string(), model.title.empty() ? opts.base_name : model.title,
                                   viz->num_points(), viz->num_lines()});
@@ -317,8 +327,12 @@ void ResultWriter::Impl::create_viz() {
 
 void ResultWriter::Impl::compute_step(const ModelState& state) {
   axial.resize(model.elements.size());
+  polyline_axial.resize(model.elements.size());
   for (std::size_t e = 0; e < model.elements.size(); ++e)
     axial[e] = state.axial_force(static_cast<int>(e)).value_or(std::numeric_limits<double>::quiet_NaN());
+  for (std::size_t e = 0; e < model.elements.size(); ++e)
+    polyline_axial[e] = model.elements[e].element->polyline_axial_forces(
+          state.element_slots(static_cast<int>(e)), state.context());
   energy = state.energy();
   viz->points(state, points);
   if (steps == 0) points0 = points;

@@ -16,11 +16,12 @@ void VizGeometry::check_draw_sequences(const Model& model) {
                                     " but has " + std::to_string(body.joints.size()) + " joints");
 }
 
-void VizGeometry::add_line(int a, int b, int body, int element) {
+void VizGeometry::add_line(int a, int b, int body, int element, int polyline) {
   lines_.push_back(a);
   lines_.push_back(b);
   line_body_.push_back(body);
   line_element_.push_back(element);
+  line_polyline_.push_back(polyline);
 }
 
 void VizGeometry::add_rigid_body(const Model& model, int b) {
@@ -67,7 +68,8 @@ VizGeometry VizGeometry::plan(const ModelState& state) {
       const int n = line.size() >= 2 ? static_cast<int>(line.size()) : 0;  // a single point draws no line
       counts.push_back(n);
       for (int i = 0; i + 1 < n; ++i)
-        g.add_line(next + i, next + i + 1, model.elements[e].body, static_cast<int>(e));
+        g.add_line(next + i, next + i + 1, model.elements[e].body, static_cast<int>(e),
+                   static_cast<int>(counts.size()) - 1);
       next += n;
     }
     g.axis_count_.push_back(std::move(counts));

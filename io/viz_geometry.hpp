@@ -28,6 +28,8 @@ class VizGeometry {
   const std::vector<int>& line_body() const { return line_body_; }
   /// Element index of each line, -1 for rigid-body lines.
   const std::vector<int>& line_element() const { return line_element_; }
+  /// Index of each line's polyline within its element's axis_polylines, -1 for rigid-body lines.
+  const std::vector<int>& line_polyline() const { return line_polyline_; }
 
   /// Point positions (3 per point) at `state`. Throws std::runtime_error if an element's number
   /// of axis points differs from the first state's.
@@ -39,14 +41,14 @@ class VizGeometry {
     bool joint = true;
     int index = -1;
   };
-  void add_line(int a, int b, int body, int element);
+  void add_line(int a, int b, int body, int element, int polyline = -1);
   void add_rigid_body(const Model& model, int body);
 
   std::vector<std::vector<int>> axis_count_;  // per element and polyline, from the first state
   std::vector<int> element_first_;  // per element, its first point; -1 if not drawn
   int first_frame_point_ = 0;
   std::vector<FramePoint> frame_points_;
-  std::vector<int> lines_, line_body_, line_element_;
+  std::vector<int> lines_, line_body_, line_element_, line_polyline_;
 };
 
 }  // namespace latticedyn::io

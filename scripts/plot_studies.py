@@ -28,13 +28,14 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-REQUIRED_CSV = [
-    "end_moment.csv",
-    "self_weight.csv",
-    "self_weight_series.csv",
-    "rotation_torque_series.csv",
-    "rotation_angle_series.csv",
-]
+# required tables and the columns each cannot do without (the others are optional)
+REQUIRED_CSV = {
+    "end_moment.csv": ["type", "segments", "K"],
+    "self_weight.csv": ["type", "segments"],
+    "self_weight_series.csv": ["model", "time"],
+    "rotation_torque_series.csv": ["model", "time"],
+    "rotation_angle_series.csv": ["model", "time"],
+}
 TYPE_LETTER = {"cubic_spline_beam": "C", "timoshenko_beam": "T"}
 TYPE_NAME = {"C": "cubic spline beam", "T": "Timoshenko beam"}
 SEGMENT_COLOURS = {1: "tab:red", 3: "tab:orange", 5: "tab:green", 10: "tab:blue"}
@@ -56,11 +57,20 @@ def parse_cell(text):
         return text
 
 
-def read_csv(path):
-    """Rows of a CSV as dicts of parsed cells."""
+class TableError(Exception):
+    """A table lacks what the script cannot do without."""
+
+
+def read_csv(path, key_columns):
+    """Rows of a CSV as dicts of parsed cells; key_columns (model identity, time) must exist."""
     with open(path, newline="") as f:
+        reader = csv.DictReader(f)
+        header = [name.strip() for name in reader.fieldnames or []]
+        missing = [name for name in key_columns if name not in header]
+        if missing:
+            raise TableError(f"{path} has no column {', '.join(missing)}")
         return [{k.strip(): parse_cell(v or "") for k, v in row.items() if k is not None}
-                for row in csv.DictReader(f)]
+                for row in reader]
 
 
 def finite(x):
@@ -145,10 +155,27 @@ def energy_unit(values):
     return 1.0, "J"
 
 
+def label_levels(ax, levels):
+    """Names horizontal reference lines on a right-hand axis: levels = [(y, text), ...]."""
+    right = ax.twinx()
+    right.set_ylim(ax.get_ylim())
+    right.set_yticks([y for y, _ in levels], [text for _, text in levels], fontsize=8)
+    ax.callbacks.connect("ylim_changed", lambda a: right.set_ylim(a.get_ylim()))
+
+
 def finish(fig, path):
     fig.savefig(path, dpi=DPI)
     plt.close(fig)
     print(f"wrote {path}")
+
+
+def add_legend(ax, **kwargs):
+    """A legend if anything was labelled, else a note that the panel has no data."""
+    if ax.get_legend_handles_labels()[0]:
+        ax.legend(**kwargs)
+    else:
+        ax.text(0.5, 0.5, "no data (column missing or all nan)", transform=ax.transAxes,
+                ha="center", va="center", color="0.4")
 
 
 def legend_note(ax, text):
@@ -157,11 +184,16 @@ def legend_note(ax, text):
 
 # ---------------------------------------------------------------- figure 8.1
 
-def plot_end_moment(directory):
-    rows = read_csv(directory / "end_moment.csv")
+def plot_end_moment(directory, tables):
+    rows = tables["end_moment.csv"]
     groups = group_summary(rows)
     fig, (ax_tip, ax_err) = plt.subplots(1, 2, figsize=(14, 6.2),
                                          gridspec_kw=dict(width_ratios=[1, 1.15]))
+    exact = columns(sorted(rows, key=lambda r: r["K"]), "K", "exact_x", "exact_y")
+    if exact:
+        locus = sorted(set(zip(*exact)))
+        ax_tip.plot([p[1] for p in locus], [p[2] for p in locus], color="black", linewidth=1.3,
+                    label="exact (circular arc)", zorder=5)
     omitted = 0
     for model in sorted_models(groups):
         mrows = sorted(groups[model], key=lambda r: r["K"])
@@ -177,29 +209,25 @@ def plot_end_moment(directory):
         if points:
             ax_err.plot(*zip(*points), **style(model, marker=MARKER.get(letter, "^"),
                                                markersize=4, linewidth=1.2))
-    exact = columns(sorted(rows, key=lambda r: r["K"]), "K", "exact_x", "exact_y")
-    if exact:
-        locus = sorted(set(zip(*exact)))
-        ax_tip.plot([p[1] for p in locus], [p[2] for p in locus], color="black", linewidth=1.8,
-                    label="exact (circular arc)", zorder=0)
     ax_tip.set_aspect("equal", adjustable="datalim")
     ax_tip.set_xlabel("tip x [m]")
     ax_tip.set_ylabel("tip y [m]")
     ax_tip.set_title("(a) tip position for K = 0.05 … 1.0")
     ax_tip.grid(True, alpha=0.3)
-    ax_tip.legend(fontsize=8, ncol=2, loc="upper right")
+    add_legend(ax_tip, fontsize=8, ncol=2, loc="upper right")
     if omitted:
         legend_note(ax_tip, f"{omitted} non-converged solutions omitted")
     for limit in (0.5, 1.0):
         ax_err.axhline(limit, color="black", linestyle=":", linewidth=1.2)
-        ax_err.annotate(f"{limit:g} %", (1.0, limit), xycoords=("axes fraction", "data"),
-                        xytext=(-4, 3), textcoords="offset points", ha="right", fontsize=8)
+        ax_err.annotate(f"limit {limit:g} %", (0.0, limit), xycoords=("axes fraction", "data"),
+                        xytext=(4, 0), textcoords="offset points", ha="left", va="center",
+                        fontsize=8, bbox=dict(facecolor="white", edgecolor="none", pad=1))
     ax_err.set_yscale("log")
     ax_err.set_xlabel("K (end moment, K = 1: full circle)")
     ax_err.set_ylabel("tip error [% of L]")
     ax_err.set_title("(b) tip error vs exact arc (non-converged omitted)")
     ax_err.grid(True, which="both", alpha=0.25)
-    ax_err.legend(fontsize=8, ncol=2, loc="lower right")
+    add_legend(ax_err, fontsize=8, ncol=2, loc="lower right")
     fig.suptitle("8.1 End moment: cantilever rolled up by a tip moment")
     fig.tight_layout()
     finish(fig, directory / "fig_8_1_end_moment.png")
@@ -207,9 +235,9 @@ def plot_end_moment(directory):
 
 # ---------------------------------------------------------------- figure 8.2
 
-def plot_self_weight(directory):
-    summary = read_csv(directory / "self_weight.csv")
-    series = group_series(read_csv(directory / "self_weight_series.csv"))
+def plot_self_weight(directory, tables):
+    summary = tables["self_weight.csv"]
+    series = group_series(tables["self_weight_series.csv"])
     fig, (ax_z, ax_p) = plt.subplots(1, 2, figsize=(14, 5.5),
                                      gridspec_kw=dict(width_ratios=[3, 1]))
     for model in sorted_models(series):
@@ -219,15 +247,17 @@ def plot_self_weight(directory):
     swing = columns(summary, "swing_exact")
     if swing and swing[0]:
         two_w = swing[0][0]
-        for level, text in ((0.0, "0"), (-two_w / 2, "−w_static"), (-two_w, "−2 w_static")):
+        levels = [(0.0, "0"), (-two_w / 2, "−w_static"), (-two_w, "−2 w_static")]
+        for level, _ in levels:
             ax_z.axhline(level, color="black", linestyle=":", linewidth=1.0)
-            ax_z.annotate(text, (1.0, level), xycoords=("axes fraction", "data"),
-                          xytext=(-4, 3), textcoords="offset points", ha="right", fontsize=8)
+        label_levels(ax_z, levels)
     ax_z.set_xlabel("time [s]")
     ax_z.set_ylabel("tip z displacement [m]")
     ax_z.set_title("(a) tip displacement, self weight applied at t = 0")
     ax_z.grid(True, alpha=0.3)
-    ax_z.legend(fontsize=8, ncol=4, loc="lower left")
+    bottom, top = ax_z.get_ylim()
+    ax_z.set_ylim(bottom - 0.12 * (top - bottom), top)  # room for the legend
+    add_legend(ax_z, fontsize=8, ncol=8, loc="lower center")
 
     models, errors = [], []
     for row in summary:
@@ -239,13 +269,18 @@ def plot_self_weight(directory):
         letter, segments = split_model(models[i])
         ax_p.bar(pos, errors[i], color=colour(segments), edgecolor="black", linewidth=0.6,
                  hatch="//" if letter == "T" else None)
+        ax_p.annotate(f"{errors[i]:+.2f}", (pos, errors[i]), ha="center", fontsize=7,
+                      va="bottom" if errors[i] >= 0 else "top",
+                      xytext=(0, 2 if errors[i] >= 0 else -2), textcoords="offset points")
     ax_p.set_xticks(range(len(order)), [models[i] for i in order], rotation=45)
+    if not order:
+        add_legend(ax_p)
     ax_p.axhline(0, color="black", linewidth=0.8)
     ax_p.set_ylabel("period error [%]")
     ax_p.set_title("(b) first period vs Euler-Bernoulli")
     ax_p.grid(True, axis="y", alpha=0.3)
-    if order:
-        legend_note(ax_p, "hatched: T")
+    ax_p.set_xlabel("model (hatched: Timoshenko)")
+    ax_p.margins(y=0.1)
     fig.suptitle("8.1 Self weight: cantilever released under gravity")
     fig.tight_layout()
     finish(fig, directory / "fig_8_2_self_weight.png")
@@ -253,25 +288,25 @@ def plot_self_weight(directory):
 
 # ---------------------------------------------------------------- figure 8.3
 
-def plot_rotation_torque(directory):
-    series = group_series(read_csv(directory / "rotation_torque_series.csv"))
+def plot_rotation_torque(directory, tables):
+    series = group_series(tables["rotation_torque_series.csv"])
     models = sorted_models(series)
     fig, (ax_d, ax_a, ax_e) = plt.subplots(3, 1, figsize=(12, 11), sharex=True)
     for model in models:
         data = columns(series[model], "time", "tip_deflection")
         if data:
-            ax_d.plot(*data, linewidth=1.0, **style(model))
+            ax_d.plot(*data, linewidth=0.8, **style(model))
         data = columns(series[model], "time", "chord_angle", "reference_angle")
         if data:
             t, chord, ref = data
-            ax_a.plot(t, [c - r for c, r in zip(chord, ref)], linewidth=1.0, **style(model))
+            ax_a.plot(t, [c - r for c, r in zip(chord, ref)], linewidth=0.8, **style(model))
     ax_d.set_ylabel("tip deflection [m]")
     ax_d.set_title("(a) tip deflection in the hinge frame")
     ax_a.set_ylabel("chord − rigid angle [rad]")
     ax_a.set_title("(b) chord angle minus rigid-body rotation M t² / (2 I_O)")
     for ax in (ax_d, ax_a):
         ax.axhline(0, color="black", linewidth=0.6)
-        ax.legend(fontsize=8, ncol=8, loc="lower left")
+        add_legend(ax, fontsize=8, ncol=8, loc="lower left")
 
     ref = reference_model(models)
     data = columns(series[ref], "time", "energy", "torque_work")
@@ -289,6 +324,8 @@ def plot_rotation_torque(directory):
         ax_diff.tick_params(axis="y", colors="tab:red")
         lines = ax_e.get_lines() + ax_diff.get_lines()
         ax_e.legend(lines, [ln.get_label() for ln in lines], fontsize=8, loc="upper left")
+    else:
+        add_legend(ax_e)
     ax_e.set_title(f"(c) work-energy check, {ref}")
     ax_e.set_xlabel("time [s]")
     for ax in (ax_d, ax_a, ax_e):
@@ -300,8 +337,8 @@ def plot_rotation_torque(directory):
 
 # ---------------------------------------------------------------- figure 8.4
 
-def plot_rotation_angle(directory):
-    series = group_series(read_csv(directory / "rotation_angle_series.csv"))
+def plot_rotation_angle(directory, tables):
+    series = group_series(tables["rotation_angle_series.csv"])
     models = sorted_models(series)
     ref = reference_model(models)
     fig, (ax_h, ax_d) = plt.subplots(2, 1, figsize=(12, 8.5), sharex=True)
@@ -323,12 +360,14 @@ def plot_rotation_angle(directory):
         ax_d.plot(*quasi, color="black", linestyle="--", linewidth=1.6, label="quasi-static")
     ax_h.set_ylabel("hinge angle [rad]")
     ax_h.set_title(f"(a) hinge angle and prescribed drive ({ref} thick, others thin)")
-    ax_h.legend(fontsize=8, ncol=5, loc="upper right")
+    add_legend(ax_h, fontsize=8, ncol=5, loc="lower left")
     ax_d.axhline(0, color="black", linewidth=0.6)
     ax_d.set_ylabel("tip deflection [m]")
     ax_d.set_xlabel("time [s]")
     ax_d.set_title("(b) tip deflection in the hinge frame")
-    ax_d.legend(fontsize=8, ncol=5, loc="lower left")
+    bottom, top = ax_d.get_ylim()
+    ax_d.set_ylim(bottom - 0.15 * (top - bottom), top)  # room for the legend
+    add_legend(ax_d, fontsize=8, ncol=9, loc="lower center")
     for ax in (ax_h, ax_d):
         ax.grid(True, alpha=0.3)
     fig.suptitle("8.1 Rotation by a prescribed hinge angle")
@@ -382,7 +421,7 @@ def write_readme(directory):
 
 def main(argv):
     if len(argv) != 2:
-        print(__doc__.strip().splitlines()[2].strip(), file=sys.stderr)
+        print("usage: /usr/bin/python3 scripts/plot_studies.py DIR", file=sys.stderr)
         return 2
     directory = pathlib.Path(argv[1])
     if not directory.is_dir():
@@ -393,10 +432,13 @@ def main(argv):
         for name in missing:
             print(f"error: required file {directory / name} is missing", file=sys.stderr)
         return 1
-    plot_end_moment(directory)
-    plot_self_weight(directory)
-    plot_rotation_torque(directory)
-    plot_rotation_angle(directory)
+    try:
+        tables = {name: read_csv(directory / name, keys) for name, keys in REQUIRED_CSV.items()}
+    except TableError as e:
+        print(f"error: {e}", file=sys.stderr)
+        return 1
+    for plot in (plot_end_moment, plot_self_weight, plot_rotation_torque, plot_rotation_angle):
+        plot(directory, tables)
     write_readme(directory)
     return 0
 

@@ -24,6 +24,9 @@ def main():
     p.add_argument("--view", default="xz", choices=["xz", "yz", "xy", "iso"],
                    help="viewing plane (x right, z up for xz)")
     p.add_argument("--color", default="body", choices=["body", "axial_force"])
+    # one positive number: pvpython takes a negative argument for one of its own options
+    p.add_argument("--range", type=float, default=None, metavar="MAX",
+                   help="colour range -MAX..MAX for --color axial_force (to compare two runs)")
     p.add_argument("--size", type=int, nargs=2, default=[1200, 800])
     p.add_argument("--radius", type=float, default=0.0,
                    help="tube radius in model units (0: a fraction of the model size)")
@@ -53,6 +56,9 @@ def main():
             d.SetScalarBarVisibility(view, True)
             lut = GetColorTransferFunction("axial_force")
             lut.ApplyPreset("Cool to Warm", True)
+            if a.range:
+                lut.RescaleTransferFunction(-a.range, a.range)
+                lut.AutomaticRescaleRangeMode = "Never"
             bar = GetScalarBar(lut, view)
             bar.Title = "axial force [N]"
             bar.ComponentTitle = ""

@@ -54,6 +54,10 @@ def main():
         "The beam elements' cross-validation of thesis 8.1 (end moment, self-weight vibration,",
         "fixed-axis rotation; C- and T-beams of 1 to 10 segments) is a set of parameter studies,",
         "`verification/studies/`, with its own report: [verification/beams/README.md](verification/beams/README.md).",
+        "The super truss against the full lattice (thesis 8.2; the type 2 section and the main boom):",
+        "[verification/lattice/lattice_type2](verification/lattice/lattice_type2/README.md),",
+        "[verification/lattice/lattice_main_boom](verification/lattice/lattice_main_boom/README.md),",
+        "read in [lattice.md](lattice.md).",
         "",
     ]
     failures = 0

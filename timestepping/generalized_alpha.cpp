@@ -76,7 +76,9 @@ GeneralizedAlphaIntegrator::GeneralizedAlphaIntegrator(SystemAssembler& sa, Dyna
   // rtol 1e-8: the Newton error stays below the time-discretisation error (double pendulum:
   // energy drift 3.9e-5 at 1e-8, 5.7e-5 at 1e-6, 4.0e-5 at 1e-10; docs/performance.md).
   PetscCallAbort(comm, SNESSetTolerances(snes, 1e-10 * force_scale, 1e-8, 1e-14, 25, 100000));
-  PetscCallAbort(comm, set_roundoff_convergence_test(snes, force_scale));
+  // Round-off floor: the residual of stiff members cannot fall below machine precision times their
+  // forces; the typical stiffness over a millimetre measures it where loads and weights are small.
+  PetscCallAbort(comm, set_roundoff_convergence_test(snes, std::max(force_scale, 1e-3 * sa_.characteristic_stiffness())));
   PetscCallAbort(comm, SNESGetKSP(snes, &ksp));
   PetscCallAbort(comm, set_direct_solver_defaults(ksp));
   PetscCallAbort(comm, TSSetFromOptions(ts_));  // -ts_, -snes_, -ksp_, -pc_ options win

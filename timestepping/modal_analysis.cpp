@@ -21,21 +21,48 @@ ModalAnalysis::~ModalAnalysis() {
 
 PetscErrorCode ModalAnalysis::solve(Vec U, double t, std::vector<Mode>* modes, std::string* message) {
   PetscFunctionBeginUser;
+  // Velocity variables (right perturbations of the rotations): at an equilibrium the tangent is
+  // symmetric there, so the pencil can be solved as a symmetric one with a semidefinite M.
   EvaluationSettings how;
-  how.param = Parametrization::rotation_vector_rates;
-  how.constraint_scale = sa_.characteristic_stiffness();
+  how.param = Parametrization::velocity_variables;
+  const double s = sa_.characteristic_stiffness();
+  how.constraint_scale = s;
   const EvaluationPoint at{U, nullptr, nullptr, nullptr, t, t};
   // The Jacobian always carries the multiplier columns G^T: M is the difference of two of them.
   PetscCall(sa_.jacobian(at, how, 1.0, 0.0, 0.0, K_));
   PetscCall(sa_.jacobian(at, how, 1.0, 0.0, 1.0, M_));
   PetscCall(MatAXPY(M_, -1.0, K_, SAME_NONZERO_PATTERN));
+  // Multiplier columns times s match the constraint rows s G: [K, s G^T; s G, 0]. Symmetrise the
+  // round-off away (the pencil is symmetric at an equilibrium).
+  Vec D;
+  PetscCall(MatCreateVecs(K_, &D, nullptr));
+  PetscCall(VecSet(D, 1.0));
+  for (std::size_t c = 0; c < sa_.model().constraints.size(); ++c) {
+    const PetscInt first = sa_.dofs().multiplier_dof(static_cast<int>(c));
+    for (int i = 0; i < sa_.model().constraints[c].rows(); ++i)
+      if (first + i >= sa_.dofs().owned_begin() && first + i < sa_.dofs().owned_end())
+        PetscCall(VecSetValue(D, first + i, s, INSERT_VALUES));
+  }
+  PetscCall(VecAssemblyBegin(D));
+  PetscCall(VecAssemblyEnd(D));
+  PetscCall(MatDiagonalScale(K_, nullptr, D));
+  PetscCall(VecDestroy(&D));
+  for (Mat* A : {&K_, &M_}) {
+    Mat At;
+    PetscCall(MatTranspose(*A, MAT_INITIAL_MATRIX, &At));
+    PetscCall(MatAXPY(*A, 1.0, At, DIFFERENT_NONZERO_PATTERN));
+    PetscCall(MatScale(*A, 0.5));
+    PetscCall(MatDestroy(&At));
+  }
 
   EPS eps;
   ST st;
   KSP ksp;
   PetscCall(EPSCreate(sa_.comm(), &eps));
   PetscCall(EPSSetOperators(eps, K_, M_));
-  PetscCall(EPSSetProblemType(eps, EPS_GNHEP));  // the constraint rows make the pencil indefinite
+  // Symmetric A, semidefinite M (zero on the multipliers): shift-and-invert with purification
+  // keeps the multipliers' infinite eigenvalues out.
+  PetscCall(EPSSetProblemType(eps, EPS_GHEP));
   PetscCall(EPSGetST(eps, &st));
   PetscCall(STSetType(st, STSINVERT));
   // A small negative shift keeps K - sigma M regular for free bodies (omega^2 = 0).

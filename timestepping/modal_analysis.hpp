@@ -1,7 +1,7 @@
-// Natural frequencies and mode shapes of the model linearised about a state (a static
-// equilibrium): the generalized eigenproblem K phi = omega^2 M phi with the constraints kept as
-// multiplier rows, solved by SLEPc with shift-and-invert (the multipliers' infinite eigenvalues
-// map to zero and never come out).
+// Natural frequencies and mode shapes of the model linearised about a static equilibrium: the
+// generalized eigenproblem K phi = omega^2 M phi with the constraints kept as multiplier rows,
+// symmetric in the velocity variables, solved by SLEPc with shift-and-invert and purification
+// (the multipliers' infinite eigenvalues never come out).
 #pragma once
 
 #include "assembly/system_assembler.hpp"
@@ -21,7 +21,8 @@ struct Mode {
   double omega2 = 0.0;     ///< eigenvalue omega^2 [1/s^2]
   double frequency = 0.0;  ///< sqrt(omega2) / (2 pi) [Hz] (0 for omega2 <= 0)
   double residual = 0.0;   ///< relative residual |K phi - omega^2 M phi| / |K phi| reported by SLEPc
-  Vec vector = nullptr;    ///< the mode in the system's unknowns (velocity-like: block rates); owned
+  Vec vector = nullptr;    ///< the mode in the system's unknowns as velocity variables (gather with
+                           ///< Parametrization::velocity_variables); owned
 };
 
 class ModalAnalysis {

@@ -16,7 +16,9 @@ StaticSolver::StaticSolver(SystemAssembler& sa, StaticSettings settings) : sa_(s
   PetscCallAbort(sa_.comm(), SNESSetJacobian(snes_, J_, J_, form_jacobian, this));
   PetscCallAbort(sa_.comm(), SNESSetType(snes_, SNESNEWTONLS));
   PetscCallAbort(sa_.comm(), SNESSetTolerances(snes_, settings_.atol, settings_.rtol, 0.0, settings_.max_iterations, 100000));
-  PetscCallAbort(sa_.comm(), set_roundoff_convergence_test(snes_));
+  // Round-off reference: the force of the typical stiffness over a millimetre. A model that starts
+  // in equilibrium (no loads) has nothing else to measure its residual's floor against.
+  PetscCallAbort(sa_.comm(), set_roundoff_convergence_test(snes_, 1e-3 * sa_.characteristic_stiffness()));
   history_.resize(static_cast<std::size_t>(settings_.max_iterations) + 1);
   PetscCallAbort(sa_.comm(), SNESSetConvergenceHistory(snes_, history_.data(), nullptr,
                                                        static_cast<PetscInt>(history_.size()), PETSC_TRUE));

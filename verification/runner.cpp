@@ -4,6 +4,7 @@
 #include "verification/trajectory.hpp"
 
 #include "io/input_node.hpp"
+#include "io/model_reader.hpp"
 
 #include <slepcsys.h>
 
@@ -67,11 +68,31 @@ Result below(const std::string& what, double value, double max) {
   return Result{what, value, buf, std::isfinite(value) && value <= max};
 }
 
+// Natural frequency (Hz) of mode `mode` (from 1) about the model's static equilibrium, on rank 0's
+// own communicator (the modal solve is small and serial here).
+double natural_frequency(const std::string& model_path, int mode) {
+  Simulation sim = read_simulation(model_path);
+  SystemAssembler sa(sim.model, PETSC_COMM_SELF);
+  Vec U, V;
+  PetscCallAbort(PETSC_COMM_SELF, sa.create_vector(&U));
+  PetscCallAbort(PETSC_COMM_SELF, sa.create_vector(&V));
+  PetscCallAbort(PETSC_COMM_SELF, sa.initial_state(U, V));
+  SimulationOutcome outcome;
+  std::vector<Mode> modes;
+  std::string message;
+  PetscCallAbort(PETSC_COMM_SELF, equilibrium_modes(sim, sa, U, V, mode, &modes, &outcome, &message));
+  const double f = static_cast<int>(modes.size()) >= mode ? modes[mode - 1].frequency : NAN;
+  destroy_modes(modes);
+  VecDestroy(&U);
+  VecDestroy(&V);
+  return f;
+}
+
 // Evaluates one check on rank 0 (other ranks only take part in the runs it starts).
 Result evaluate(const InputNode& c, const Trajectory& tr, const std::filesystem::path& dir, MPI_Comm comm) {
   const std::string what = c["what"].as_choice({"axial_force", "displacement", "position", "multiplier", "period",
                                                  "energy_drift", "max_violation", "variation", "compare_run",
-                                                 "mpi_consistency"});
+                                                 "mpi_consistency", "frequency"});
   int rank = 0, size = 1;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &size);
@@ -114,6 +135,13 @@ Result evaluate(const InputNode& c, const Trajectory& tr, const std::filesystem:
     return below(label + " max |dr|", diff, c["max_difference"].as_positive());
   }
   if (rank != 0) return Result{};
+  if (what == "frequency") {
+    c.allow_only({"what", "mode", "expected", "abs_tol", "rel_tol"});
+    const int mode = c["mode"].as_int();
+    if (mode < 1 || mode > 100) c["mode"].fail("expected a mode number from 1 to 100");
+    return compare(c, "natural frequency of mode " + std::to_string(mode) + " (Hz)",
+                   natural_frequency(tr.simulation->source, mode));
+  }
   if (what == "energy_drift") {
     c.allow_only({"what", "max"});
     return below("energy drift / max kinetic energy", tr.energy_drift(), c["max"].as_positive());

@@ -41,10 +41,14 @@ class Study {
   /// computed up to the failure).
   Trajectory run(const std::string& tag, const std::map<std::string, std::string>& substitutions,
                  SimulationOutcome* outcome) const;
+  /// Only writes the instantiated model; returns its path.
+  std::string instantiate(const std::string& tag, const std::map<std::string, std::string>& substitutions) const;
+  std::filesystem::path model_path(const std::string& tag) const;
 
  private:
   InputNode root_;
   StudyBeam beam_;
+  bool has_beam_ = false;
   std::filesystem::path out_dir_;
   bool quick_;
 };
@@ -72,6 +76,11 @@ struct Verdict {
   bool pass = false;
 };
 
+/// Centred moving average of w(t) over `window` (NaN where the window leaves the record).
+std::vector<double> moving_average(const std::vector<double>& t, const std::vector<double>& w, double window);
+/// Mean frequency of the oscillation of w about `mean`: upward crossings per second.
+double oscillation_frequency(const std::vector<double>& t, const std::vector<double>& w, const std::vector<double>& mean);
+
 /// Short element-type label of the thesis: "C" (cubic spline) or "T" (Timoshenko).
 std::string type_label(const std::string& type);
 
@@ -79,5 +88,6 @@ std::string type_label(const std::string& type);
 std::vector<Verdict> run_end_moment_study(const Study& s);
 std::vector<Verdict> run_self_weight_study(const Study& s);
 std::vector<Verdict> run_fixed_axis_rotation_study(const Study& s);
+std::vector<Verdict> run_lattice_reduction_study(const Study& s);
 
 }  // namespace latticedyn

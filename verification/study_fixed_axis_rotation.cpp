@@ -62,31 +62,6 @@ RotationSeries measure(const Trajectory& tr) {
   return s;
 }
 
-// Centred moving average over `window` (NaN where the window leaves the record).
-std::vector<double> moving_average(const std::vector<double>& t, const std::vector<double>& w, double window) {
-  std::vector<double> out(t.size(), NAN);
-  std::size_t a = 0, b = 0;
-  double sum = 0.0;
-  for (std::size_t i = 0; i < t.size(); ++i) {
-    if (t[i] - 0.5 * window < t.front() - 1e-12 || t[i] + 0.5 * window > t.back() + 1e-12) continue;
-    while (b < t.size() && t[b] <= t[i] + 0.5 * window + 1e-12) sum += w[b++];
-    while (a < b && t[a] < t[i] - 0.5 * window - 1e-12) sum -= w[a++];
-    out[i] = sum / static_cast<double>(b - a);
-  }
-  return out;
-}
-
-// Mean frequency of the oscillation of w about its moving average: upward crossings per second.
-double oscillation_frequency(const std::vector<double>& t, const std::vector<double>& w, const std::vector<double>& mean) {
-  std::vector<double> up;
-  for (std::size_t i = 1; i < t.size(); ++i) {
-    if (!std::isfinite(mean[i - 1]) || !std::isfinite(mean[i])) continue;
-    const double a = w[i - 1] - mean[i - 1], b = w[i] - mean[i];
-    if (a < 0 && b >= 0) up.push_back(t[i - 1] + (t[i] - t[i - 1]) * (-a) / (b - a));
-  }
-  return up.size() < 2 ? NAN : static_cast<double>(up.size() - 1) / (up.back() - up.front());
-}
-
 double max_abs(const std::vector<double>& v) {
   double m = 0.0;
   for (double x : v) m = std::max(m, std::abs(x));

@@ -13,12 +13,14 @@ namespace {
 
 int run_study(const std::string& path, const std::string& out, bool quick) {
   const Study study(path, out, quick);
-  const std::string kind = study.root()["study"].as_choice({"end_moment", "self_weight", "fixed_axis_rotation"});
+  const std::string kind =
+      study.root()["study"].as_choice({"end_moment", "self_weight", "fixed_axis_rotation", "lattice_reduction"});
   std::printf("study %s: %s\nsource: %s\n", path.c_str(), study.root()["title"].as_string().c_str(),
               study.root()["source"].as_string().c_str());
-  const std::vector<Verdict> verdicts = kind == "end_moment"    ? run_end_moment_study(study)
-                                        : kind == "self_weight" ? run_self_weight_study(study)
-                                                                : run_fixed_axis_rotation_study(study);
+  const std::vector<Verdict> verdicts = kind == "end_moment"            ? run_end_moment_study(study)
+                                        : kind == "self_weight"         ? run_self_weight_study(study)
+                                        : kind == "fixed_axis_rotation" ? run_fixed_axis_rotation_study(study)
+                                                                        : run_lattice_reduction_study(study);
   bool all = !verdicts.empty();
   for (const Verdict& v : verdicts) {
     std::printf("%s  %s\n", v.pass ? "pass" : "FAIL", v.what.c_str());

@@ -6,6 +6,8 @@
 
 #include <sys/wait.h>
 
+#include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -96,6 +98,28 @@ TEST_F(Cli, RunWritesReadableResults) {
   // 0, 0.05, ..., 0.2: five outputs, plus the CSV header.
   const std::string csv = slurp(dir_ / "out/pendulum_probes.csv");
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 6) << csv;
+}
+
+TEST_F(Cli, ModesGivesThePendulumFrequencyAndWritesTheShapes) {
+  write("pendulum.yaml", kPendulum);
+  const Outcome o = run("modes pendulum.yaml --modes 1 --output out");
+  ASSERT_EQ(o.code, 0) << o.out << o.err;
+  // Small swings of a physical pendulum about its hanging equilibrium: omega^2 = m g d / I_O
+  // with I_O = I_c + m d^2 (d = 0.5 m, I_c = 0.17 kg m^2 about y, m = 2 kg).
+  const double omega2 = 2.0 * 9.81 * 0.5 / (0.17 + 2.0 * 0.25);
+  const std::string csv = slurp(dir_ / "out/pendulum_modes.csv");
+  std::istringstream lines(csv);
+  std::string header, row;
+  std::getline(lines, header);
+  ASSERT_TRUE(std::getline(lines, row)) << csv;
+  int mode = 0;
+  double hz = 0.0, w2 = 0.0;
+  ASSERT_EQ(std::sscanf(row.c_str(), "%d,%lf,%lf", &mode, &hz, &w2), 3) << row;
+  EXPECT_EQ(mode, 1);
+  EXPECT_NEAR(w2, omega2, 1e-6 * omega2);
+  EXPECT_NEAR(hz, std::sqrt(omega2) / (2.0 * M_PI), 1e-6);
+  EXPECT_TRUE(fs::exists(dir_ / "out/pendulum.xdmf"));
+  EXPECT_EQ(run("modes pendulum.yaml --modes 0").code, 2);
 }
 
 TEST_F(Cli, CheckDescribesAValidModel) {

@@ -4,6 +4,8 @@
 
 #include "assembly/system_assembler.hpp"
 #include "core/rotation.hpp"
+#include "elements/super_truss.hpp"
+#include "io/model_reader.hpp"
 #include "tests/assembly/sample_models.hpp"
 
 #include <gtest/gtest.h>
@@ -519,6 +521,62 @@ TEST(ResultWriter, ModelWithoutConstraintsAndDrawSequences) {
   const auto csv = read_csv(writer.csv_path());
   ASSERT_EQ(csv.size(), 3u);
   EXPECT_EQ(csv[0], std::vector<std::string>{"time"});
+}
+
+TEST(ResultWriter, SuperTrussIsDrawnMemberByMemberWithItsMemberForces) {
+  // A 3-bay triangular section as one super truss; the recorded states stretch and bend it, so
+  // members carry different forces, and each drawn member line must carry its own.
+  const char* text = R"(materials:
+  steel: {density: 7800, youngs_modulus: 2.06e11, poisson_ratio: 0.25}
+sections:
+  chord: {type: round_tube, outer_radius: 0.1, inner_radius: 0.08}
+  lacing: {type: round_tube, outer_radius: 0.05, inner_radius: 0.04}
+truss_sections:
+  tri:
+    length: 6
+    order: 3
+    end1: [[1, 0], [-0.5, 0.8], [-0.5, -0.8]]
+    main_beams: [[1, 1], [2, 2], [3, 3]]
+    cross_beams1: [[1, 2], [2, 3], [3, 1]]
+    cross_beams2: [[1, 2], [2, 3], [3, 1]]
+    material: steel
+    main_section: chord
+    sub_section: lacing
+bodies:
+  - {name: boom, type: super_truss, section: tri}
+)";
+  Recording run(read_simulation_from_string(text, "tri.yaml").model, 2);
+  const Model& model = run.model;
+  ASSERT_EQ(model.elements.size(), 1u);
+  const auto& truss = dynamic_cast<const SuperTrussElement&>(*model.elements[0].element);
+  ScratchDir dir;
+  ResultWriter writer(model, {dir.path.string(), "truss", {}});
+  for (const auto& s : run.states) writer.append(s);
+  writer.close();
+
+  H5File f(writer.h5_path());
+  const auto lines = read<int>(f.id, "/viz/lines");
+  const auto element = read<int>(f.id, "/viz/element");
+  const auto viz_axial = read<double>(f.id, "/viz/axial_force");
+  const ModelState& s = run.states[1];
+  const auto polylines = truss.axis_polylines(s.element_slots(0), s.context());
+  const std::vector<double> forces = truss.member_axial_forces(s.element_slots(0));
+  ASSERT_EQ(polylines.size(), forces.size());
+  std::size_t expected_lines = 0;
+  for (const auto& p : polylines) expected_lines += p.size() - 1;
+  ASSERT_EQ(element.v.size(), expected_lines);
+  // Lines come polyline by polyline, so member m owns the next (points - 1) lines.
+  std::size_t l = 0;
+  double smallest = INFINITY, largest = -INFINITY;
+  for (std::size_t m = 0; m < polylines.size(); ++m)
+    for (std::size_t i = 0; i + 1 < polylines[m].size(); ++i, ++l) {
+      EXPECT_EQ(element.v[l], 0);
+      EXPECT_EQ(viz_axial.at({1, l}), forces[m]) << "member " << m;
+      smallest = std::min(smallest, forces[m]);
+      largest = std::max(largest, forces[m]);
+    }
+  EXPECT_GT(largest - smallest, 1e3);  // the members really differ, so a mix-up would show
+  expect_xdmf_matches(writer.xdmf_path(), f.id, {0.0, 0.1});
 }
 
 TEST(ResultWriter, ANewRunTruncatesTheFilesOfTheLast) {
