@@ -117,10 +117,12 @@ int command_solve(Simulation& sim, const CommandOptions& opt, MPI_Comm comm, boo
     char buf[1024];
     const double simulated = r.time_reached - sim.dynamics.t_start;
     std::snprintf(buf, sizeof buf,
-                  "dynamics %s: %ld steps (%ld rejected), %ld Newton iterations (%.2f per step), %ld rotation "
-                  "rescales, wall %.3g s (%.3g x real time), %d outputs; largest constraint violation over the run: %s\n",
+                  "dynamics %s: %ld steps (%ld rejected), %ld Newton iterations (%.2f per step), %ld Jacobians, %ld "
+                  "rotation rescales, wall %.3g s (%.3g x real time), %d outputs; largest constraint violation over the "
+                  "run: %s\n",
                   r.completed ? "completed" : "FAILED", r.steps, r.rejected_steps, r.newton_iterations,
-                  r.steps ? static_cast<double>(r.newton_iterations) / r.steps : 0.0, r.rotation_rescales, r.wall_seconds,
+                  r.steps ? static_cast<double>(r.newton_iterations) / r.steps : 0.0, r.jacobians, r.rotation_rescales,
+                  r.wall_seconds,
                   r.wall_seconds > 0 ? simulated / r.wall_seconds : 0.0, out.written(),
                   describe_violation(sim.model, r.max_violation, r.violation_constraint).c_str());
     if (!r.completed) error_root(comm, r.message);

@@ -139,8 +139,9 @@ void read_body(ReaderContext& ctx, const InputNode& n) {
   const std::string name = name_node.as_string();
   if (name.empty() || name.find('.') != std::string::npos) name_node.fail("body names must be non-empty and contain no '.'");
   if (ctx.bodies.count(name)) name_node.fail("a body named '" + name + "' exists already");
-  const std::string type =
+  std::string type =
       n["type"].as_choice({"rigid_body", "strut_tie", "timoshenko_beam", "cubic_spline_beam", "rope", "lattice", "super_truss"});
+  if ((type == "lattice" || type == "super_truss") && !ctx.truss_bodies.empty()) type = ctx.truss_bodies;
   try {
     if (type == "rigid_body") read_rigid_body(ctx, n, name);
     if (type == "strut_tie") read_strut_tie(ctx, n, name);

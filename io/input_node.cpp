@@ -2,6 +2,7 @@
 #include "io/input_node.hpp"
 
 #include <cmath>
+#include <filesystem>
 #include <set>
 #include <sstream>
 
@@ -30,15 +31,57 @@ InputError::InputError(const std::string& file, int line, int column, const std:
 InputNode::InputNode(YAML::Node node, std::string path, std::shared_ptr<const std::string> file)
     : node_(std::move(node)), path_(std::move(path)), file_(std::move(file)) {}
 
-InputNode InputNode::load_file(const std::string& path) {
-  auto file = std::make_shared<const std::string>(path);
+namespace {
+
+YAML::Node parse_file(const std::string& path) {
   try {
-    return InputNode(YAML::LoadFile(path), "", file);
+    return YAML::LoadFile(path);
   } catch (const YAML::BadFile&) {
     throw InputError(path, 0, 0, "", "cannot open the model file");
   } catch (const YAML::Exception& e) {
     throw InputError(path, e.mark.line + 1, e.mark.column + 1, "", "YAML syntax error: " + e.msg);
   }
+}
+
+}  // namespace
+
+InputNode InputNode::load_file(const std::string& path) {
+  auto file = std::make_shared<const std::string>(path);
+  InputNode top(parse_file(path), "", file);
+  if (!top.node_.IsMap() || !top.node_["base"]) return top;
+  // Follow the chain of bases; a key of a later file replaces the same key of its base.
+  std::vector<InputNode> chain{top};
+  std::set<std::string> seen{std::filesystem::weakly_canonical(path).string()};
+  while (chain.back().node_.IsMap() && chain.back().node_["base"]) {
+    const InputNode link = chain.back()["base"];
+    const std::filesystem::path from = std::filesystem::path(link.file()).parent_path() / link.as_string();
+    if (!seen.insert(std::filesystem::weakly_canonical(from).string()).second)
+      link.fail("'" + from.string() + "' is already a base of this file (a cycle)");
+    if (!std::filesystem::is_regular_file(from)) link.fail("no model file '" + from.string() + "'");
+    chain.push_back(InputNode(parse_file(from.string()), "", std::make_shared<const std::string>(from.string())));
+    if (!chain.back().node_.IsMap()) chain.back().fail("expected a map of keys (a model file)");
+  }
+  YAML::Node merged(YAML::NodeType::Map);
+  auto files = std::make_shared<KeyFiles>();
+  std::set<std::string> taken;
+  for (const InputNode& layer : chain)  // from this file down to the last base: first one wins
+    for (auto it = layer.node_.begin(); it != layer.node_.end(); ++it) {
+      const std::string key = it->first.as<std::string>();
+      if (key == "base" || !taken.insert(key).second) continue;
+      merged.force_insert(it->first, it->second);
+      (*files)[key] = layer.file_;
+    }
+  InputNode root(merged, "", file);
+  root.key_files_ = std::move(files);
+  return root;
+}
+
+std::shared_ptr<const std::string> InputNode::file_of(const std::string& key) const {
+  if (key_files_) {
+    const auto it = key_files_->find(key);
+    if (it != key_files_->end()) return it->second;
+  }
+  return file_;
 }
 
 InputNode InputNode::load_string(const std::string& text, const std::string& name) {
@@ -57,7 +100,7 @@ void InputNode::fail(const std::string& message) const {
 }
 
 InputNode InputNode::child(const YAML::Node& n, const std::string& key) const {
-  return InputNode(n, path_.empty() ? key : path_ + "." + key, file_);
+  return InputNode(n, path_.empty() ? key : path_ + "." + key, file_of(key));
 }
 
 void InputNode::allow_only(std::initializer_list<const char*> allowed) const {
@@ -65,7 +108,7 @@ void InputNode::allow_only(std::initializer_list<const char*> allowed) const {
   std::set<std::string> seen;
   for (auto it = node_.begin(); it != node_.end(); ++it) {
     const std::string key = it->first.as<std::string>();
-    InputNode at(it->first, path_.empty() ? key : path_ + "." + key, file_);
+    InputNode at(it->first, path_.empty() ? key : path_ + "." + key, file_of(key));
     bool ok = false;
     for (const char* a : allowed) ok = ok || key == a;
     if (!ok) at.fail("unknown key '" + key + "' (expected one of: " + join(allowed) + ")");

@@ -7,6 +7,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <initializer_list>
+#include <map>
 #include <memory>
 #include <optional>
 #include <stdexcept>
@@ -31,7 +32,10 @@ class InputError : public std::runtime_error {
 
 class InputNode {
  public:
-  /// Parses a file; a YAML syntax error becomes an InputError with its position.
+  /// Parses a file; a YAML syntax error becomes an InputError with its position. A top-level
+  /// `base: other.yaml` (relative to the file) starts from that file: each top-level key of this
+  /// file replaces the base's key of the same name entirely; the others come from the base (which
+  /// may have a base itself). Errors name the file a key came from.
   static InputNode load_file(const std::string& path);
   /// Parses text (for tests), reporting errors against `name`.
   static InputNode load_string(const std::string& text, const std::string& name);
@@ -77,10 +81,14 @@ class InputNode {
  private:
   InputNode(YAML::Node node, std::string path, std::shared_ptr<const std::string> file);
   InputNode child(const YAML::Node& n, const std::string& key) const;
+  /// The file a top-level key came from (a `base` merge), else this node's file.
+  std::shared_ptr<const std::string> file_of(const std::string& key) const;
+  using KeyFiles = std::map<std::string, std::shared_ptr<const std::string>>;
 
   YAML::Node node_;
   std::string path_;
   std::shared_ptr<const std::string> file_;
+  std::shared_ptr<const KeyFiles> key_files_;  // root of a merged file only
 };
 
 }  // namespace latticedyn

@@ -116,7 +116,7 @@ void read_solver(const InputNode& n, Simulation& sim) {
   }
   if (auto d = n.get("dynamics")) {
     d->allow_only({"integrator", "t_start", "t_end", "time_step", "rho_infinity", "adaptive", "rtol", "atol", "max_steps",
-                   "baumgarte_alpha", "baumgarte_beta", "rk_type"});
+                   "baumgarte_alpha", "baumgarte_beta", "rk_type", "jacobian_reuse"});
     sim.run_dynamics = true;
     DynamicSettings& dy = sim.dynamics;
     if (auto k = d->get("integrator"))
@@ -138,6 +138,10 @@ void read_solver(const InputNode& n, Simulation& sim) {
       dy.max_steps = k->as_int();
       if (dy.max_steps < 1) k->fail("expected at least 1 step");
     }
+    if (auto k = d->get("jacobian_reuse")) {
+      dy.jacobian_reuse = k->as_int();
+      if (dy.jacobian_reuse < 1 || dy.jacobian_reuse > 1000) k->fail("expected 1 (a fresh Jacobian every Newton iteration) to 1000");
+    }
     dy.baumgarte_alpha = d->get_non_negative("baumgarte_alpha", dy.baumgarte_alpha);
     dy.baumgarte_beta = d->get_non_negative("baumgarte_beta", dy.baumgarte_beta);
     if (auto k = d->get("rk_type"))  // PETSc's TSRK schemes
@@ -158,8 +162,8 @@ void read_output(const ReaderContext& ctx, const InputNode& n, Simulation& sim) 
 
 Simulation read(const InputNode& root, const std::string& source) {
   if (!root.is_map()) root.fail("a model file is a map of keys (title, gravity, bodies, ...)");
-  root.allow_only({"title", "gravity", "materials", "sections", "truss_sections", "drives", "ground", "bodies",
-                   "constraints", "loads", "solver", "output"});
+  root.allow_only({"title", "gravity", "materials", "sections", "truss_sections", "truss_bodies", "drives", "ground",
+                   "bodies", "constraints", "loads", "solver", "output"});
   Simulation sim;
   sim.source = source;
   const std::string stem = std::filesystem::path(source).stem().string();
@@ -174,6 +178,10 @@ Simulation read(const InputNode& root, const std::string& source) {
     for (const auto& [name, node] : m->entries()) ctx.materials[name] = read_material(node);
   if (auto s = root.get("sections"))
     for (const auto& [name, node] : s->entries()) ctx.sections[name] = read_section(node);
+  if (auto t = root.get("truss_bodies")) {
+    const std::string as = t->as_choice({"as_given", "lattice", "super_truss"});
+    ctx.truss_bodies = as == "as_given" ? "" : as;
+  }
   if (auto t = root.get("truss_sections"))
     for (const auto& [name, node] : t->entries()) ctx.truss_sections[name] = read_truss_section(ctx, node);
   if (auto d = root.get("drives"))

@@ -26,6 +26,9 @@ class ReaderContext {
   std::map<std::string, TrussSectionSpec> truss_sections;
   std::map<std::string, int> drives;
   std::map<std::string, BodyRecord> bodies;
+  /// `truss_bodies`: empty (as given), "lattice" or "super_truss": the type every lattice and
+  /// super truss body is built as, so one model file gives the full and the reduced model.
+  std::string truss_bodies;
 
   /// A material given by name (from `materials`) or inline as a map.
   Material material(const InputNode& n) const;

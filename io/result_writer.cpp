@@ -215,6 +215,7 @@ void ResultWriter::Impl::write_model() {
   io::write_strings(m, "load_names", names, ctx);
   io::write_ints(m, "load_joint", load_joint, ctx);
   io::write_ints(m, "probe_joints", opts.probe_joints, ctx);
+  io::write_strings(m, "drive_names", model.drive_names, ctx);
 }
 
 void ResultWriter::Impl::add(hid_t group, const std::string& name, std::vector<hsize_t> row, const char* units,
@@ -285,6 +286,12 @@ void ResultWriter::Impl::create_series() {
   const Hid elements = io::create_group(root, "elements", ctx);
   add(elements.get(), "axial_force", {ne}, "N",
       [this](const ModelState&, double* out) { std::copy(axial.begin(), axial.end(), out); });
+
+  const Hid drives = io::create_group(root, "drives", ctx);
+  const hsize_t nd = model.drives.size();
+  add(drives.get(), "value", {nd}, "model units (m, rad, 1)", [this, nd](const ModelState& s, double* out) {
+    for (hsize_t d = 0; d < nd; ++d) out[d] = model.drives[d].evaluate(s.time()).value;
+  });
 
   add(root, "energy", {3}, "J", [this](const ModelState&, double* out) {
     out[0] = energy.kinetic;

@@ -37,6 +37,7 @@ struct ResultWriterOptions {
 ///   /elements/axial_force    T x nElements    NaN for elements without one
 ///   /energy                  T x 3            kinetic, gravity potential, strain
 ///   /energy_total            T
+///   /drives/value            T x nDrives      each drive's value (rest lengths, angles)
 ///   /viz/points, /viz/displacement  T x nPoints x 3;  /viz/axial_force T x nLines
 ///   /viz/lines nLines x 2, /viz/body nLines, /viz/element nLines (static)
 ///

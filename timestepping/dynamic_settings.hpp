@@ -22,6 +22,9 @@ struct DynamicSettings {
   double baumgarte_alpha = 10.0;  ///< [1/s], (4-27); the thesis suggests half the lowest natural frequency
   double baumgarte_beta = 1.0;
   std::string rk_type = "5dp";    ///< TSRK scheme of the Baumgarte route
+  /// Generalized-alpha: Newton iterations one Jacobian and its factorisation serve, across steps
+  /// (1: a fresh one every iteration). A new step size or a rotation rescale forces a fresh one.
+  int jacobian_reuse = 1;
 };
 
 struct DynamicReport {
@@ -31,6 +34,7 @@ struct DynamicReport {
   long newton_iterations = 0;
   long rejected_steps = 0;
   long rotation_rescales = 0;
+  long jacobians = 0;             ///< Jacobians assembled and factorised (generalized-alpha)
   double wall_seconds = 0.0;
   double max_violation = 0.0;     ///< over all accepted steps
   int violation_constraint = -1;

@@ -14,6 +14,9 @@ class GeneralizedAlphaIntegrator {
  public:
   /// Consecutive step cuts (x 1/4 each) after failed Newton solves before the run stops.
   static constexpr int kMaxStepCuts = 8;
+  /// Jacobian reuse: a Newton iteration that leaves more than this fraction of the residual
+  /// makes the next one take a fresh Jacobian.
+  static constexpr double kChordContraction = 0.5;
 
   GeneralizedAlphaIntegrator(SystemAssembler& assembler, DynamicSettings settings);
   ~GeneralizedAlphaIntegrator();
@@ -31,6 +34,7 @@ class GeneralizedAlphaIntegrator {
   static PetscErrorCode i2jacobian(TS ts, PetscReal t, Vec U, Vec V, Vec A, PetscReal shift_v, PetscReal shift_a, Mat J,
                                    Mat P, void* ctx);
   static PetscErrorCode post_step(TS ts);
+  static PetscErrorCode watch_contraction(SNES snes, PetscInt it, PetscReal fnorm, void* ctx);
   static PetscErrorCode monitor(TS ts, PetscInt step, PetscReal t, Vec U, void* ctx);
   /// The stage's end-of-step state Uc = U0 + (Ua - U0)/alpha_f, its time, and the settings.
   PetscErrorCode stage(PetscReal ta, Vec Ua, Vec Va, Vec Aa, EvaluationPoint* at, EvaluationSettings* how,
@@ -38,6 +42,10 @@ class GeneralizedAlphaIntegrator {
 
   SystemAssembler& sa_;
   DynamicSettings settings_;
+  double reuse_shift_v_ = -1.0, reuse_shift_a_ = -1.0;  // shifts of the Jacobian in J_
+  int reuse_count_ = 0;                                 // Newton iterations it has served
+  double last_fnorm_ = 0.0;                             // residual norm of the last Newton iterate
+  long jacobians_ = 0;                                  // Jacobians assembled in the run
   TS ts_ = nullptr;
   Mat J_ = nullptr;
   Vec F_ = nullptr, Uc_ = nullptr, V_prev_ = nullptr, A_est_ = nullptr, A_scaled_ = nullptr;

@@ -60,13 +60,24 @@ PetscErrorCode StaticSolver::form_function(SNES snes, Vec U, Vec F, void* ctx) {
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode StaticSolver::form_jacobian(SNES, Vec U, Mat J, Mat, void* ctx) {
+PetscErrorCode StaticSolver::form_jacobian(SNES snes, Vec U, Mat J, Mat, void* ctx) {
   auto* self = static_cast<StaticSolver*>(ctx);
   PetscFunctionBeginUser;
   const double t = self->settings_.time;
-  const double mu = self->regularized_ ? self->settings_.regularization * self->sa_.characteristic_stiffness() /
-                                             self->sa_.characteristic_mass()
-                                       : 0.0;
+  // Pseudo-transient continuation with switched evolution relaxation (Kelley & Keyes 1998): the
+  // regularization shrinks with the residual, mu_k = mu_0 |F_k| / |F_0|, so it steers the first
+  // iterations through free or soft motions and leaves full Newton steps near the solution. A
+  // constant mu scaled by the stiffest members would crawl along soft modes (ropes, ties).
+  double mu = 0.0;
+  if (self->regularized_) {
+    PetscInt it;
+    PetscReal fnorm;
+    PetscCall(SNESGetIterationNumber(snes, &it));
+    PetscCall(SNESGetFunctionNorm(snes, &fnorm));
+    if (it == 0 || self->initial_residual_ <= 0.0) self->initial_residual_ = fnorm;
+    const double ratio = self->initial_residual_ > 0.0 ? std::min(1.0, fnorm / self->initial_residual_) : 1.0;
+    mu = ratio * self->settings_.regularization * self->sa_.characteristic_stiffness() / self->sa_.characteristic_mass();
+  }
   PetscCall(self->sa_.jacobian(EvaluationPoint{U, nullptr, nullptr, nullptr, t, t}, self->evaluation(), 1.0, 0.0, mu, J));
   PetscFunctionReturn(0);
 }

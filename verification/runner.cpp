@@ -92,7 +92,7 @@ double natural_frequency(const std::string& model_path, int mode) {
 Result evaluate(const InputNode& c, const Trajectory& tr, const std::filesystem::path& dir, MPI_Comm comm) {
   const std::string what = c["what"].as_choice({"axial_force", "displacement", "position", "multiplier", "period",
                                                  "energy_drift", "max_violation", "variation", "compare_run",
-                                                 "mpi_consistency", "frequency"});
+                                                 "mpi_consistency", "frequency", "min_axial_force"});
   int rank = 0, size = 1;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &size);
@@ -122,13 +122,21 @@ Result evaluate(const InputNode& c, const Trajectory& tr, const std::filesystem:
     }
     if (rank != 0) return Result{};
     const double until = c.has("until") ? c["until"].as_double() : 1e300;
+    // One joint by name (the other model may number its joints differently), or all joints of
+    // two models with the same joints.
     const int joint = c.has("joint") ? joint_of(m, c["joint"]) : -1;
+    const int other_joint = c.has("joint") ? joint_of(other.simulation->model, c["joint"]) : -1;
+    if (joint < 0 && other.simulation->model.joints.size() != m.joints.size())
+      c.fail("the two models have different joints: name the joint to compare");
     double diff = 0.0;
     std::size_t compared = 0;
     for (std::size_t k = 0; k < tr.time.size() && k < other.time.size() && tr.time[k] <= until + 1e-12; ++k) {
       if (std::abs(tr.time[k] - other.time[k]) > 1e-9) return Result{label, NAN, "same output times", false};
-      for (std::size_t j = 0; j < tr.joints[k].size(); ++j)
-        if (joint < 0 || static_cast<int>(j) == joint) diff = std::max(diff, (tr.joints[k][j] - other.joints[k][j]).norm());
+      if (joint >= 0) {
+        diff = std::max(diff, (tr.joints[k][joint] - other.joints[k][other_joint]).norm());
+      } else {
+        for (std::size_t j = 0; j < tr.joints[k].size(); ++j) diff = std::max(diff, (tr.joints[k][j] - other.joints[k][j]).norm());
+      }
       ++compared;
     }
     if (compared < 2 || !outcome.ok()) return Result{label, NAN, "both runs complete", false};
@@ -141,6 +149,20 @@ Result evaluate(const InputNode& c, const Trajectory& tr, const std::filesystem:
     if (mode < 1 || mode > 100) c["mode"].fail("expected a mode number from 1 to 100");
     return compare(c, "natural frequency of mode " + std::to_string(mode) + " (Hz)",
                    natural_frequency(tr.simulation->source, mode));
+  }
+  if (what == "min_axial_force") {
+    c.allow_only({"what", "body", "min"});
+    const int b = m.find_body(c["body"].as_string());
+    if (b < 0) c["body"].fail("no body named '" + c["body"].as_string() + "' in the model");
+    double least = INFINITY;
+    for (const auto& step : tr.axial)
+      for (int e : m.bodies[b].elements)
+        if (std::isfinite(step[e])) least = std::min(least, step[e]);
+    const double min = c["min"].as_double();
+    char buf[64];
+    std::snprintf(buf, sizeof buf, ">= %.3g", min);
+    return Result{"least axial force of " + c["body"].as_string() + " over the run", least, buf,
+                  std::isfinite(least) && least >= min};
   }
   if (what == "energy_drift") {
     c.allow_only({"what", "max"});
@@ -182,8 +204,10 @@ Result evaluate(const InputNode& c, const Trajectory& tr, const std::filesystem:
     return compare(c, "position " + label + " at t = " + std::to_string(t), v);
   }
   if (what == "period") {
-    c.allow_only({"what", "joint", "component", "expected", "abs_tol", "rel_tol"});
-    return compare(c, "period of " + label, tr.period(joint, comp));
+    c.allow_only({"what", "joint", "component", "from", "expected", "abs_tol", "rel_tol"});
+    const double from = c.has("from") ? c["from"].as_double() : -1e300;
+    return compare(c, "period of " + label + (c.has("from") ? " from t = " + c["from"].as_string() + " s" : ""),
+                   tr.period(joint, comp, from));
   }
   c.allow_only({"what", "joint", "component", "max"});
   double lo = 1e300, hi = -1e300;

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 namespace latticedyn {
@@ -17,15 +18,17 @@ double Trajectory::at(int joint, int component, double t) const {
   return (1 - w) * joints[k - 1][joint](component) + w * joints[k][joint](component);
 }
 
-double Trajectory::period(int joint, int component) const {
+double Trajectory::period(int joint, int component, double from) const {
   double lo = 1e300, hi = -1e300;
-  for (const auto& s : joints) {
-    lo = std::min(lo, s[joint](component));
-    hi = std::max(hi, s[joint](component));
-  }
+  for (std::size_t i = 0; i < time.size(); ++i)
+    if (time[i] >= from) {
+      lo = std::min(lo, joints[i][joint](component));
+      hi = std::max(hi, joints[i][joint](component));
+    }
   const double mid = 0.5 * (lo + hi);
   std::vector<double> crossings;
   for (std::size_t i = 1; i < time.size(); ++i) {
+    if (time[i - 1] < from) continue;
     const double a = joints[i - 1][joint](component) - mid, b = joints[i][joint](component) - mid;
     if (a < 0 && b >= 0) crossings.push_back(time[i - 1] + (time[i] - time[i - 1]) * (-a) / (b - a));
   }
@@ -65,6 +68,10 @@ PetscErrorCode TrajectoryRecorder::record(double t, Vec U, Vec V, Parametrizatio
     out_->energy.push_back(e.kinetic + e.gravity_potential + e.strain);
     out_->kinetic.push_back(e.kinetic);
     out_->violation.push_back(state_.max_constraint_violation().first);
+    std::vector<double> axial(sa_.model().elements.size());
+    for (std::size_t e = 0; e < axial.size(); ++e)
+      axial[e] = state_.axial_force(static_cast<int>(e)).value_or(std::numeric_limits<double>::quiet_NaN());
+    out_->axial.push_back(std::move(axial));
   }
   PetscFunctionReturn(0);
 }

@@ -19,12 +19,14 @@ struct Trajectory {
   std::vector<Vec3> joints0;              ///< joint positions of the initial model state
   std::vector<double> energy, kinetic;    ///< total (kinetic + gravity + strain) and kinetic
   std::vector<double> violation;          ///< max |g| over all constraints
+  std::vector<std::vector<double>> axial;  ///< [step][element] axial force, NaN where none
   std::unique_ptr<ModelState> final_state;
 
   /// Linear interpolation of a joint coordinate at time t (must lie in the recorded range).
   double at(int joint, int component, double t) const;
-  /// Mean period of a joint coordinate from its upward crossings of the mid value.
-  double period(int joint, int component) const;
+  /// Mean period of a joint coordinate from its upward crossings of the mid value, over the
+  /// outputs at t >= from.
+  double period(int joint, int component, double from = -1e300) const;
   /// max |E - E0| / max kinetic energy.
   double energy_drift() const;
 };

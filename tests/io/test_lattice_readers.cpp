@@ -76,6 +76,24 @@ TEST(LatticeReaders, BuildsTheFullModelMemberByMember) {
   EXPECT_EQ(m.joints[m.find_joint("foot.e2n1")].translation_block, n1.translation_block);
 }
 
+TEST(LatticeReaders, TrussBodiesSwitchesEveryLatticeBody) {
+  // Spliced at the end sections' reference points, which both body types have (a super truss's
+  // end-node joints sit off its nodes and cannot be shared); rigid_ends is accepted (and ignored)
+  // on a super truss.
+  std::string text = kLattice;
+  text.replace(text.find("rigid_ends: false"), 17, "rigid_ends: true");
+  text.replace(text.find("[foot.e2n1, mid.e1n1]"), 21, "[foot.2, mid.1]");
+  const Model m = read_simulation_from_string(text + "truss_bodies: super_truss\n", "lattice.yaml").model;
+  for (const char* name : {"foot", "mid"}) {
+    const Body& b = m.bodies[m.find_body(name)];
+    EXPECT_EQ(b.type, "super_truss") << name;
+    EXPECT_EQ(b.elements.size(), 1u) << name;
+  }
+  EXPECT_GE(m.find_joint("mid.e1n1"), 0);
+  const Model full = read_simulation_from_string(text + "truss_bodies: lattice\n", "lattice.yaml").model;
+  EXPECT_EQ(full.bodies[full.find_body("mid")].elements.size(), 56u);
+}
+
 struct BadLattice {
   const char* name;
   std::string replace, with, key, says;

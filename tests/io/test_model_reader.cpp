@@ -7,7 +7,11 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <algorithm>
+#include <filesystem>
+#include <fstream>
 #include <string>
 
 namespace latticedyn {
@@ -154,6 +158,79 @@ INSTANTIATE_TEST_SUITE_P(
         BadInput{"axis_on_spherical", "type: spherical,", "type: spherical, axis: x,", 0, "constraints[1].axis",
                  "only revolute and prismatic"}),
     [](const ::testing::TestParamInfo<BadInput>& info) { return std::string(info.param.name); });
+
+// A model built on a base file: its top-level keys replace the base's, errors name the file the
+// offending key came from, and a cycle or a missing base is an input error.
+class BaseFiles : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = std::filesystem::temp_directory_path() / ("latticedyn_base_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir_ / "sub");
+  }
+  void TearDown() override { std::filesystem::remove_all(dir_); }
+  std::string write(const std::string& name, const std::string& text) {
+    std::ofstream(dir_ / name) << text;
+    return (dir_ / name).string();
+  }
+  std::filesystem::path dir_;
+};
+
+TEST_F(BaseFiles, KeysOfTheFileReplaceTheBasesWholeKeys) {
+  write("sub/base.yaml", kValid);
+  const std::string top = write("maneuver.yaml",
+                                "base: sub/base.yaml\ntitle: a maneuver\n"
+                                "drives:\n  swing: {type: constant, value: 0.25}\n"
+                                "solver:\n  dynamics: {t_end: 1, time_step: 0.02}\n");
+  const Simulation sim = read_simulation(top);
+  EXPECT_EQ(sim.model.title, "a maneuver");
+  EXPECT_EQ(sim.model.bodies.size(), 4u);  // ground and three bodies, from the base
+  ASSERT_EQ(sim.model.drives.size(), 1u);
+  EXPECT_DOUBLE_EQ(sim.model.drives[0].evaluate(5.0).value, 0.25);
+  EXPECT_DOUBLE_EQ(sim.dynamics.t_end, 1.0);
+  EXPECT_FALSE(sim.run_static) << "solver replaced as a whole: no static block";
+  EXPECT_EQ(sim.output.interval, 0.1) << "output from the base";
+}
+
+TEST_F(BaseFiles, ErrorsNameTheFileTheKeyCameFrom) {
+  std::string bad = kValid;
+  bad.replace(bad.find("mass: 3"), 7, "mass: -3");
+  const std::string base = write("sub/base.yaml", bad);
+  const std::string top = write("top.yaml", "base: sub/base.yaml\ntitle: x\n");
+  try {
+    read_simulation(top);
+    FAIL() << "expected an input error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), base);
+    EXPECT_NE(std::string(e.what()).find("base.yaml:15:"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("bodies[0].mass"), std::string::npos) << e.what();
+  }
+  write("top2.yaml", "base: sub/base.yaml\ntitle: x\ngravity: [0, 0]\n");
+  try {
+    read_simulation((dir_ / "top2.yaml").string());
+    FAIL() << "expected an input error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("top2.yaml:3:"), std::string::npos) << e.what();
+  }
+}
+
+TEST_F(BaseFiles, CyclesAndMissingBasesAreInputErrors) {
+  write("a.yaml", "base: b.yaml\ntitle: a\n");
+  write("b.yaml", "base: a.yaml\ntitle: b\n");
+  try {
+    read_simulation((dir_ / "a.yaml").string());
+    FAIL() << "expected an input error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("cycle"), std::string::npos) << e.what();
+  }
+  write("c.yaml", "base: nowhere.yaml\n");
+  try {
+    read_simulation((dir_ / "c.yaml").string());
+    FAIL() << "expected an input error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("c.yaml:1:"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("nowhere.yaml"), std::string::npos) << e.what();
+  }
+}
 
 TEST(ModelReader, MissingFileIsAnInputError) {
   EXPECT_THROW(read_simulation("/nonexistent/model.yaml"), InputError);

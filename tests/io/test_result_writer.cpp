@@ -342,6 +342,12 @@ TEST(ResultWriter, RoundTripOfThreeSteps) {
   const auto axial = read<double>(f.id, "/elements/axial_force");
   const auto energy = read<double>(f.id, "/energy");
   const auto energy_total = read<double>(f.id, "/energy_total");
+  const auto drive_value = read<double>(f.id, "/drives/value");
+  EXPECT_EQ(read_strings(f.id, "/model/drive_names"), model.drive_names);
+  ASSERT_EQ(drive_value.dims, (std::vector<hsize_t>{3, model.drives.size()}));
+  for (hsize_t k = 0; k < 3; ++k)
+    for (hsize_t d = 0; d < model.drives.size(); ++d)
+      EXPECT_EQ(drive_value.at({k, d}), model.drives[d].evaluate(run.states[k].time()).value);
 
   for (hsize_t k = 0; k < 3; ++k) {
     const ModelState& s = run.states[k];

@@ -1,0 +1,187 @@
+#!/usr/bin/python3
+"""Plots and tables of a crane run (examples/crane/*.yaml), read from its HDF5 results.
+
+    /usr/bin/python3 scripts/crane_report.py results/crane_lifting/lifting.h5 --out DIR [--title T]
+
+Writes into DIR, named after the results file:
+    <name>_load.png     position and velocity of the load's hook (joint load.1) over time, like
+                        the thesis's Figures 8-10..8-13
+    <name>_ropes.png    forces in the ropes and strut ties, and the drives (rest lengths, slewing angle)
+    <name>_summary.md   the state at the start (the static equilibrium) and at the end: rope rest
+                        lengths and forces, boom angle, load position; the run's extremes
+    <name>_summary.csv  the same numbers, one quantity per row
+Needs h5py and matplotlib (Debian's python3-h5py, python3-matplotlib).
+"""
+import argparse
+import math
+import pathlib
+import sys
+
+import h5py
+import numpy as np
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+ROPES = ["hoisting_rope", "luffing_rope", "sub_cable", "tie1", "tie2"]
+DPI = 110
+
+
+def strings(ds):
+    return [x.decode() if isinstance(x, bytes) else str(x) for x in ds[()]]
+
+
+class Run:
+    def __init__(self, path):
+        f = h5py.File(path, "r")
+        self.name = pathlib.Path(path).stem
+        self.title = f.attrs.get("title", self.name)
+        if isinstance(self.title, bytes):
+            self.title = self.title.decode()
+        self.time = f["time"][()]
+        self.joint_names = strings(f["model/joint_names"])
+        self.joint_pos = f["joints/position"][()]
+        self.joint_vel = f["joints/velocity"][()]
+        self.bodies = strings(f["model/body_names"])
+        self.element_body = f["model/element_body"][()]
+        self.axial = f["elements/axial_force"][()]
+        self.violation = f["constraints/violation"][()] if "constraints/violation" in f else None
+        self.drive_names = strings(f["model/drive_names"]) if "model/drive_names" in f else []
+        self.drives = f["drives/value"][()] if "drives/value" in f else np.zeros((len(self.time), 0))
+
+    def joint(self, name):
+        if name not in self.joint_names:
+            sys.exit(f"error: the results have no joint '{name}' (is this a crane run?)")
+        k = self.joint_names.index(name)
+        return self.joint_pos[:, k, :], self.joint_vel[:, k, :]
+
+    def body_force(self, name):
+        """Axial force of a body's elements over time: (mean, minimum over the elements)."""
+        if name not in self.bodies:
+            return None
+        b = self.bodies.index(name)
+        cols = [e for e, eb in enumerate(self.element_body) if eb == b]
+        forces = self.axial[:, cols]
+        return forces.mean(axis=1), forces.min(axis=1)
+
+    def drive(self, name):
+        return self.drives[:, self.drive_names.index(name)] if name in self.drive_names else None
+
+    def boom_angle(self):
+        """Angle of the main boom (foot hinge to head) above the horizontal, degrees."""
+        foot, _ = self.joint("boom1.1")
+        head, _ = self.joint("head.1")
+        d = head - foot
+        return np.degrees(np.arctan2(d[:, 2], np.hypot(d[:, 0], d[:, 1])))
+
+
+def plot_load(run, out, title):
+    p, v = run.joint("load.1")
+    fig, axes = plt.subplots(2, 3, figsize=(13, 6), sharex=True)
+    for c, axis in enumerate("xyz"):
+        axes[0][c].plot(run.time, p[:, c], color="tab:blue")
+        axes[0][c].set_ylabel(f"load {axis} (m)")
+        axes[1][c].plot(run.time, v[:, c], color="tab:red")
+        axes[1][c].set_ylabel(f"load v{axis} (m/s)")
+        axes[1][c].set_xlabel("time (s)")
+        for ax in (axes[0][c], axes[1][c]):
+            ax.grid(alpha=0.3)
+    fig.suptitle(f"{title}: position and velocity of the load's hook")
+    fig.tight_layout()
+    path = out / f"{run.name}_load.png"
+    fig.savefig(path, dpi=DPI)
+    plt.close(fig)
+    print(f"wrote {path}")
+
+
+def plot_ropes(run, out, title):
+    fig, (ax, bx) = plt.subplots(1, 2, figsize=(13, 4.2))
+    for name in ROPES:
+        f = run.body_force(name)
+        if f is not None:
+            ax.plot(run.time, f[0] / 1e6, label=name.replace("_", " "))
+    ax.set_xlabel("time (s)")
+    ax.set_ylabel("axial force (MN)")
+    ax.set_title("rope and tie forces (mean over each body's elements)", fontsize=9)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    for name in run.drive_names:
+        y = run.drive(name)
+        if name == "slewing":
+            bx.plot(run.time, np.degrees(y), label="slewing angle (deg)")
+        else:
+            bx.plot(run.time, y, label=f"{name} rope rest length (m)")
+    bx.set_xlabel("time (s)")
+    bx.set_title("drives (Table 7-3: u1 slewing, u2 luffing, u3 hoisting)", fontsize=9)
+    bx.grid(alpha=0.3)
+    bx.legend(fontsize=8)
+    fig.suptitle(title)
+    fig.tight_layout()
+    path = out / f"{run.name}_ropes.png"
+    fig.savefig(path, dpi=DPI)
+    plt.close(fig)
+    print(f"wrote {path}")
+
+
+def summary(run, out, title):
+    p, v = run.joint("load.1")
+    angle = run.boom_angle()
+    rows = []  # (quantity, start, end, unit)
+    for name in run.drive_names:
+        y = run.drive(name)
+        if name == "slewing":
+            rows.append(("slewing angle", math.degrees(y[0]), math.degrees(y[-1]), "deg"))
+        else:
+            rows.append((f"{name} rope rest length", y[0], y[-1], "m"))
+    for name in ROPES:
+        f = run.body_force(name)
+        if f is not None:
+            rows.append((f"{name.replace('_', ' ')} force", f[0][0] / 1e3, f[0][-1] / 1e3, "kN"))
+    rows.append(("main boom angle above horizontal", angle[0], angle[-1], "deg"))
+    for c, axis in enumerate("xyz"):
+        rows.append((f"load hook {axis}", p[0, c], p[-1, c], "m"))
+    lines = [f"### {title}", "", f"`{run.name}.h5`, t = {run.time[0]:g} .. {run.time[-1]:g} s, "
+             f"{len(run.time)} outputs", "",
+             "| quantity | start (static equilibrium) | end | unit |", "|---|---|---|---|"]
+    for q, a, b, u in rows:
+        lines.append(f"| {q} | {a:.6g} | {b:.6g} | {u} |")
+    minimum = min((run.body_force(n)[1].min() for n in ROPES if run.body_force(n) is not None), default=float("nan"))
+    viol = float(np.max(run.violation)) if run.violation is not None and run.violation.size else 0.0
+    extremes = [("smallest rope or tie force over the run", minimum / 1e3, "kN"),
+                ("largest constraint violation over the run", viol, "m or rad"),
+                ("largest load speed", float(np.max(np.linalg.norm(v, axis=1))), "m/s"),
+                ("load's largest |y|", float(np.max(np.abs(p[:, 1]))), "m")]
+    lines += ["", "| over the run | value | unit |", "|---|---|---|"]
+    lines += [f"| {q} | {x:.6g} | {u} |" for q, x, u in extremes]
+    (out / f"{run.name}_summary.md").write_text("\n".join(lines) + "\n")
+    with open(out / f"{run.name}_summary.csv", "w") as f:
+        f.write("quantity,start,end,unit\n")
+        for q, a, b, u in rows:
+            f.write(f"{q},{a:.10g},{b:.10g},{u}\n")
+        for q, x, u in extremes:
+            f.write(f"{q},{x:.10g},,{u}\n")
+    print(f"wrote {out / (run.name + '_summary.md')}")
+
+
+def main():
+    a = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    a.add_argument("h5")
+    a.add_argument("--out", required=True)
+    a.add_argument("--title", default=None)
+    args = a.parse_args()
+    if not pathlib.Path(args.h5).is_file():
+        sys.exit(f"error: no results file {args.h5}")
+    out = pathlib.Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    run = Run(args.h5)
+    if len(run.time) < 1:
+        sys.exit(f"error: {args.h5} holds no output step")
+    title = args.title or run.title
+    plot_load(run, out, title)
+    plot_ropes(run, out, title)
+    summary(run, out, title)
+
+
+if __name__ == "__main__":
+    main()
