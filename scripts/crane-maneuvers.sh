@@ -28,7 +28,7 @@ for m in "${maneuvers[@]}"; do
     "$build/drivers/latticedyn" run "examples/crane/${m}${variant}.yaml" | tee "$log" | grep -v "^t = "
     # "dynamics completed: N steps (..), M Newton iterations (..), J Jacobians, .. wall W s (F x real time)"
     sed -n 's/^dynamics completed: \([0-9]*\) steps.*, \([0-9]*\) Newton iterations.*, \([0-9]*\) Jacobians.*wall \([0-9.e+]*\) s (\([0-9.e+]*\) x real time).*/\1,\2,\3,\4,\5/p' "$log" |
-      sed "s/^/${m},${variant:+full}${variant:-reduced},/" >> "$timing"
+      sed "s/^/${m},$([[ -n $variant ]] && echo full || echo reduced),/" >> "$timing"
     /usr/bin/python3 scripts/crane_report.py "results/crane_${m}${variant}/${m}${variant}.h5" --out "$out"
   done
   render "results/crane_${m}/${m}.xdmf" --output "$out/${m}.png" --times 0 20 40 --view iso --size 900 700

@@ -10,7 +10,7 @@ packages=(
   libmetis-dev libyaml-cpp-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   python3 python3-numpy python3-h5py python3-matplotlib
-  paraview python3-paraview xvfb xauth ffmpeg
+  paraview python3-paraview xvfb xauth ffmpeg libgl1-mesa-dri libglx-mesa0
 )
 
 missing=()
