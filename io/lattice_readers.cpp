@@ -75,9 +75,13 @@ const TrussSectionSpec& truss_section_of(const ReaderContext& ctx, const InputNo
 }  // namespace
 
 void read_super_truss(ReaderContext& ctx, const InputNode& n, const std::string& name) {
-  // The full model's keys are accepted and ignored, so that `truss_bodies` can switch a body.
-  n.allow_only({"name", "type", "section", "position", "rotation", "rotation_deg", "axis_angle", "cardan_zyx_deg",
-                "member_type", "elements_per_member", "rigid_ends"});
+  // A lattice body that `truss_bodies` switched to a super truss keeps its full-model keys,
+  // which are then ignored; written on a super truss body they are errors.
+  if (n["type"].as_string() == "lattice")
+    n.allow_only({"name", "type", "section", "position", "rotation", "rotation_deg", "axis_angle", "cardan_zyx_deg",
+                  "member_type", "elements_per_member", "rigid_ends"});
+  else
+    n.allow_only({"name", "type", "section", "position", "rotation", "rotation_deg", "axis_angle", "cardan_zyx_deg"});
   const TrussSectionSpec& spec = truss_section_of(ctx, n);
   const TrussGeometry g = build_truss_geometry(spec);
   const Vec3 position = n.get_vec3("position", Vec3::Zero());

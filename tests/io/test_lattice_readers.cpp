@@ -90,6 +90,10 @@ TEST(LatticeReaders, TrussBodiesSwitchesEveryLatticeBody) {
     EXPECT_EQ(b.elements.size(), 1u) << name;
   }
   EXPECT_GE(m.find_joint("mid.e1n1"), 0);
+  // Written on a super truss body, a full-model key is an error.
+  std::string reduced = text;
+  reduced.replace(reduced.find("type: lattice, section: middle"), 13, "type: super_truss");
+  EXPECT_THROW(read_simulation_from_string(reduced, "lattice.yaml"), InputError);
   const Model full = read_simulation_from_string(text + "truss_bodies: lattice\n", "lattice.yaml").model;
   EXPECT_EQ(full.bodies[full.find_body("mid")].elements.size(), 56u);
 }
