@@ -2,10 +2,13 @@
 // print what happened. Failures of the solvers are reported and leave the results written so far.
 #include "drivers/commands.hpp"
 
+#include "drivers/batch_runner.hpp"
+#include "drivers/control_pipeline.hpp"
 #include "drivers/observers.hpp"
 #include "drivers/simulation.hpp"
 #include "timestepping/modal_analysis.hpp"
 
+#include <filesystem>
 #include <fstream>
 
 #include <cstdio>
@@ -134,6 +137,15 @@ int command_solve(Simulation& sim, const CommandOptions& opt, MPI_Comm comm, boo
   return outcome.ok() ? kSuccess : kSolverFailure;
 }
 
+// Batches and the control pipeline: one assembly thread per rank unless -assembly_threads says
+// otherwise. The ranks already fill the cores, and a case's numbers then do not depend on the
+// thread count (sums in one order): identical on 1 and n ranks.
+void one_thread_per_rank(MPI_Comm comm) {
+  PetscBool threads_set = PETSC_FALSE;
+  PetscCallAbort(comm, PetscOptionsHasName(nullptr, nullptr, "-assembly_threads", &threads_set));
+  if (!threads_set) PetscCallAbort(comm, PetscOptionsSetValue(nullptr, "-assembly_threads", "1"));
+}
+
 }  // namespace
 
 int command_check(const Simulation& sim, MPI_Comm comm) {
@@ -250,6 +262,79 @@ int command_run(Simulation& sim, const CommandOptions& opt, MPI_Comm comm) {
     return kInputError;
   }
   return command_solve(sim, opt, comm, sim.run_static, true);
+}
+
+int command_batch(const CommandOptions& opt, MPI_Comm comm) {
+  const BatchSpec spec = read_batch(opt.model_path);
+  one_thread_per_rank(comm);
+  int size = 1;
+  MPI_Comm_size(comm, &size);
+  char buf[512];
+  std::snprintf(buf, sizeof buf, "batch '%s': %zu cases in %d chain%s of model %s, %s analysis, %d rank%s\n",
+                spec.source.c_str(), spec.cases.size(), spec.chains, spec.chains == 1 ? "" : "s", spec.model_path.c_str(),
+                spec.dynamics ? "dynamic" : "static", size, size == 1 ? "" : "s");
+  print_root(comm, buf);
+  BatchOptions bo;
+  bo.output_directory = opt.output_directory;
+  bo.groups = opt.groups;
+  bo.retry_failed = opt.retry_failed;
+  BatchSummary s;
+  try {
+    s = run_batch(spec, bo, comm);
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::runtime_error& e) {  // the folder holds another batch, or cannot be written
+    error_root(comm, e.what());
+    return kInputError;
+  }
+  std::snprintf(buf, sizeof buf,
+                "batch finished: %d cases, %d ok, %d failed, %d not run; %d taken from an earlier run; wall %.3g s\n"
+                "table: %s and %s\n",
+                s.cases, s.ok, s.failed, s.cases - s.ok - s.failed, s.skipped, s.wall_seconds, s.csv_path.c_str(),
+                s.h5_path.c_str());
+  print_root(comm, buf);
+  if (s.failed > 0) {
+    std::string list;
+    int shown = 0;
+    for (const auto& [i, r] : s.records)
+      if (!r.ok && shown++ < 5) list += "  case " + std::to_string(i) + " (" + spec.cases[i].label + "): " + r.error + "\n";
+    print_root(comm, "failed cases" + std::string(s.failed > 5 ? " (the first 5)" : "") + ":\n" + list, stderr);
+  }
+  return s.failed > 0 || s.ok < s.cases ? kSolverFailure : kSuccess;
+}
+
+int command_control(const CommandOptions& opt, MPI_Comm comm) {
+  const ControlSpec spec = read_control(opt.model_path);
+  one_thread_per_rank(comm);
+  int size = 1;
+  MPI_Comm_size(comm, &size);
+  print_root(comm, "control '" + spec.source + "': mapping batch of " + std::to_string(spec.mapping.cases.size()) +
+                       " cases on " + std::to_string(size) + " rank(s), then surfaces, optimal trajectory, control "
+                       "table and verification run on rank 0\n");
+  ControlOptions co;
+  co.output_directory = opt.output_directory;
+  co.groups = opt.groups;
+  ControlSummary s;
+  try {
+    s = run_control(spec, co, comm);
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::runtime_error& e) {
+    error_root(comm, e.what());
+    return kInputError;
+  }
+  if (!s.ok) {
+    error_root(comm, s.message);
+    return kSolverFailure;
+  }
+  char buf[512];
+  std::snprintf(buf, sizeof buf,
+                "control finished: tracking error largest %.3g m, RMS %.3g m; residual sway %.3g m; end point %.3g m "
+                "from the target\nreport: %s (plots: /usr/bin/python3 scripts/control_report.py %s)\n",
+                s.tracking_max, s.tracking_rms, s.residual_sway, s.final_offset, s.message.c_str(),
+                std::filesystem::path(s.message).parent_path().c_str());
+  print_root(comm, buf);
+  return kSuccess;
 }
 
 }  // namespace latticedyn

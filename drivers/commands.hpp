@@ -17,11 +17,18 @@ struct CommandOptions {
   std::string model_path;
   std::string output_directory;  ///< overrides output.directory when set
   int modes = 6;                 ///< modes: how many of the lowest natural modes
+  int groups = 0;                ///< batch: rank groups (0: one per rank)
+  bool retry_failed = false;     ///< batch: solve recorded failures again on resume
 };
 
 int command_check(const Simulation& sim, MPI_Comm comm);
 int command_static(Simulation& sim, const CommandOptions& options, MPI_Comm comm);
 int command_run(Simulation& sim, const CommandOptions& options, MPI_Comm comm);
+/// The cases of a batch file (io/batch_reader.hpp) over groups of ranks; a table at the end.
+/// Exit code 1 when a case failed (the table records which and why).
+int command_batch(const CommandOptions& options, MPI_Comm comm);
+/// The quasi-static optimal control pipeline of a control file (drivers/control_pipeline.hpp).
+int command_control(const CommandOptions& options, MPI_Comm comm);
 /// Static equilibrium, then the lowest natural frequencies and modes about it (SLEPc); the modes
 /// are written as the output steps 1..n (the equilibrium plus the scaled mode) and as a CSV.
 int command_modes(Simulation& sim, const CommandOptions& options, MPI_Comm comm);

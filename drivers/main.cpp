@@ -21,6 +21,10 @@ const char* kUsage =
     "  static   find the static equilibrium and write it\n"
     "  run      static equilibrium if the model asks for it, then the dynamics\n"
     "  modes    static equilibrium, then the lowest natural frequencies and mode shapes (--modes N, default 6)\n"
+    "  batch    the cases of a batch file (a grid or list of model changes) over MPI rank groups\n"
+    "           (--groups G, default one per rank; resumes in its output folder; --retry-failed)\n"
+    "  control  quasi-static optimal control: mapping batch, surfaces, optimal trajectory (TAO), control\n"
+    "           table, verification run and report (--groups G for the batch)\n"
     "  help     this text\n"
     "Every other option goes to PETSc, e.g. -ts_adapt_type basic, -snes_monitor, -pc_factor_mat_solver_type\n"
     "umfpack, -log_view. Results go to the model's output.directory (default results/<model name>).\n";
@@ -34,7 +38,8 @@ int main(int argc, char** argv) {
     return argc < 2 ? kInputError : kSuccess;
   }
   const std::string command = argv[1];
-  if (command != "check" && command != "static" && command != "run" && command != "modes") {
+  if (command != "check" && command != "static" && command != "run" && command != "modes" && command != "batch" &&
+      command != "control") {
     std::fprintf(stderr, "latticedyn: error: unknown command '%s'\n%s", command.c_str(), kUsage);
     return kInputError;
   }
@@ -53,6 +58,14 @@ int main(int argc, char** argv) {
         return kInputError;
       }
       options.modes = std::atoi(argv[++i]);
+    } else if (!std::strcmp(argv[i], "--groups")) {
+      if (i + 1 >= argc || std::atoi(argv[i + 1]) < 1) {
+        std::fprintf(stderr, "latticedyn: error: --groups needs a positive number\n");
+        return kInputError;
+      }
+      options.groups = std::atoi(argv[++i]);
+    } else if (!std::strcmp(argv[i], "--retry-failed")) {
+      options.retry_failed = true;
     } else if (i == 2 && argv[i][0] != '-') {
       options.model_path = argv[i];  // right after the command, so option values are never taken for it
     } else {
@@ -76,6 +89,11 @@ int main(int argc, char** argv) {
 
   int code = kSuccess;
   try {
+    if (command == "batch" || command == "control") {
+      code = command == "batch" ? command_batch(options, PETSC_COMM_WORLD) : command_control(options, PETSC_COMM_WORLD);
+      SlepcFinalize();
+      return code;
+    }
     // Every rank reads the model; an input error is the same on all of them.
     Simulation sim = read_simulation(options.model_path);
     // Options from the model first, then the command line again so that it wins.

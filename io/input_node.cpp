@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -30,6 +31,16 @@ InputError::InputError(const std::string& file, int line, int column, const std:
 
 InputNode::InputNode(YAML::Node node, std::string path, std::shared_ptr<const std::string> file)
     : node_(std::move(node)), path_(std::move(path)), file_(std::move(file)) {}
+
+InputNode& InputNode::operator=(const InputNode& o) {
+  if (this != &o) {
+    node_.reset(o.node_);
+    path_ = o.path_;
+    file_ = o.file_;
+    key_files_ = o.key_files_;
+  }
+  return *this;
+}
 
 namespace {
 
@@ -73,6 +84,96 @@ InputNode InputNode::load_file(const std::string& path) {
     }
   InputNode root(merged, "", file);
   root.key_files_ = std::move(files);
+  return root;
+}
+
+namespace {
+
+std::vector<std::string> split_path(const std::string& path) {
+  std::vector<std::string> parts;
+  std::string part;
+  for (char c : path) {
+    if (c == '.') {
+      parts.push_back(part);
+      part.clear();
+    } else {
+      part += c;
+    }
+  }
+  parts.push_back(part);
+  return parts;
+}
+
+// The item of a list named by `key`: an item whose `name` is `key`, else the index `key`.
+std::optional<std::size_t> find_item(const YAML::Node& list, const std::string& key) {
+  for (std::size_t i = 0; i < list.size(); ++i)
+    if (list[i].IsMap() && list[i]["name"] && list[i]["name"].IsScalar() && list[i]["name"].Scalar() == key) return i;
+  if (!key.empty() && key.find_first_not_of("0123456789") == std::string::npos) {
+    const std::size_t i = std::stoul(key);
+    if (i < list.size()) return i;
+  }
+  return std::nullopt;
+}
+
+void apply_override(YAML::Node root, const KeyOverride& o, const std::string& model_file) {
+  const auto parts = split_path(o.path);
+  auto fail = [&](const std::string& what) {
+    throw InputError(o.origin_file, o.origin_line, o.origin_column, "", "override '" + o.path + "' of " + model_file + ": " + what);
+  };
+  YAML::Node at;
+  at.reset(root);
+  std::string walked;
+  for (std::size_t k = 0; k < parts.size(); ++k) {
+    const std::string& key = parts[k];
+    if (key.empty()) fail("empty key in the path");
+    const bool last = k + 1 == parts.size();
+    const std::string where = walked.empty() ? "the model" : "'" + walked + "'";
+    if (at.IsSequence()) {
+      const auto i = find_item(at, key);
+      if (!i) fail(where + " is a list without an item named '" + key + "'");
+      if (last) {
+        at[*i] = o.value;
+        return;
+      }
+      YAML::Node next = at[*i];
+      at.reset(next);
+    } else if (at.IsMap()) {
+      if (last) {
+        at[key] = o.value;  // replaces the value, or adds the key to an existing map
+        return;
+      }
+      if (!at[key]) fail(where + " has no key '" + key + "'");
+      YAML::Node next = at[key];
+      at.reset(next);
+    } else {
+      fail(where + " is a single value, not a map or list with '" + key + "'");
+    }
+    walked += (walked.empty() ? "" : ".") + key;
+  }
+}
+
+}  // namespace
+
+std::optional<InputNode> InputNode::at_path(const std::string& dotted) const {
+  InputNode at = *this;
+  for (const std::string& key : split_path(dotted)) {
+    if (at.node_.IsSequence()) {
+      const auto i = find_item(at.node_, key);
+      if (!i) return std::nullopt;
+      at = at.items()[*i];
+    } else if (at.has(key)) {
+      at = at[key];
+    } else {
+      return std::nullopt;
+    }
+  }
+  return at;
+}
+
+InputNode InputNode::load_file(const std::string& path, const std::vector<KeyOverride>& overrides) {
+  InputNode root = load_file(path);
+  if (!overrides.empty() && !root.node_.IsMap()) root.fail("expected a map of keys (a model file)");
+  for (const KeyOverride& o : overrides) apply_override(root.node_, o, path);
   return root;
 }
 

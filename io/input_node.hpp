@@ -30,6 +30,18 @@ class InputError : public std::runtime_error {
   std::string key_;
 };
 
+/// A value put into a model at a dotted key path before it is read (batch runs, studies):
+/// "drives.luffing.value", "solver.static.load_steps", "bodies.load.mass" (a list item by its
+/// `name` or its index). The origin (file, line, column) is where the override was written, for
+/// error messages.
+struct KeyOverride {
+  std::string path;
+  YAML::Node value;
+  std::string origin_file;
+  int origin_line = 0;
+  int origin_column = 0;
+};
+
 class InputNode {
  public:
   /// Parses a file; a YAML syntax error becomes an InputError with its position. A top-level
@@ -37,12 +49,25 @@ class InputNode {
   /// file replaces the base's key of the same name entirely; the others come from the base (which
   /// may have a base itself). Errors name the file a key came from.
   static InputNode load_file(const std::string& path);
+  /// As load_file, then every override replaces (or, as the last key of an existing map, adds)
+  /// the value at its path; a path that leads nowhere is an InputError at the override's origin.
+  static InputNode load_file(const std::string& path, const std::vector<KeyOverride>& overrides);
   /// Parses text (for tests), reporting errors against `name`.
   static InputNode load_string(const std::string& text, const std::string& name);
+
+  InputNode(const InputNode&) = default;
+  /// Rebinds to the other node. (YAML::Node's own assignment writes into the node it refers to,
+  /// which would overwrite the document.)
+  InputNode& operator=(const InputNode& o);
 
   const std::string& path() const { return path_; }
   const std::string& file() const { return *file_; }
   int line() const { return node_.Mark().line + 1; }
+  int column() const { return node_.Mark().column + 1; }
+  const YAML::Node& yaml() const { return node_; }
+  /// The node at a dotted key path below this one (maps by key, lists by item `name` or index),
+  /// if there is one.
+  std::optional<InputNode> at_path(const std::string& dotted) const;
   bool is_map() const { return node_.IsMap(); }
   bool is_sequence() const { return node_.IsSequence(); }
   bool is_scalar() const { return node_.IsScalar(); }

@@ -214,6 +214,10 @@ Simulation read(const InputNode& root, const std::string& source) {
 
 Simulation read_simulation(const std::string& path) { return read(InputNode::load_file(path), path); }
 
+Simulation read_simulation(const std::string& path, const std::vector<KeyOverride>& overrides) {
+  return read(InputNode::load_file(path, overrides), path);
+}
+
 Simulation read_simulation_from_string(const std::string& yaml, const std::string& name) {
   return read(InputNode::load_string(yaml, name), name);
 }

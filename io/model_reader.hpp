@@ -3,6 +3,7 @@
 #pragma once
 
 #include "assembly/model.hpp"
+#include "io/input_node.hpp"
 #include "timestepping/dynamic_settings.hpp"
 #include "timestepping/static_solver.hpp"
 
@@ -32,6 +33,8 @@ struct Simulation {
 /// Throws InputError for any bad input (syntax, unknown key, missing field, meaningless value,
 /// dangling reference, inconsistent shared connection).
 Simulation read_simulation(const std::string& path);
+/// The model with values replaced at dotted key paths first (see KeyOverride).
+Simulation read_simulation(const std::string& path, const std::vector<KeyOverride>& overrides);
 Simulation read_simulation_from_string(const std::string& yaml, const std::string& name);
 
 }  // namespace latticedyn

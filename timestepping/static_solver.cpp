@@ -9,6 +9,9 @@
 namespace latticedyn {
 
 StaticSolver::StaticSolver(SystemAssembler& sa, StaticSettings settings) : sa_(sa), settings_(settings) {
+  // A warm start begins next to an equilibrium where the neutral modes (a load free to turn on
+  // its hook) are already known to need the regularized tangent.
+  regularized_ = settings_.warm_start && settings_.regularization > 0;
   PetscCallAbort(sa_.comm(), sa_.create_matrix(&J_));
   PetscCallAbort(sa_.comm(), sa_.create_vector(&F_));
   PetscCallAbort(sa_.comm(), SNESCreate(sa_.comm(), &snes_));
@@ -89,9 +92,11 @@ PetscErrorCode StaticSolver::solve(Vec U, StaticReport* report) {
   PetscCall(VecDuplicate(U, &last));
   PetscCall(VecCopy(U, last));
 
-  const int steps = std::max(1, settings_.load_steps);
+  const int steps = settings_.warm_start ? 1 : std::max(1, settings_.load_steps);
   double reached = 0.0;
   double increment = 1.0 / steps;
+  // A warm start has nothing to cut back to: the load stays full, only the tangent may change.
+  const int max_cuts = settings_.warm_start ? 0 : settings_.max_cuts;
   int cuts = 0;
   SNESConvergedReason reason = SNES_CONVERGED_ITERATING;
   while (reached < 1.0 - 1e-12) {
@@ -115,7 +120,7 @@ PetscErrorCode StaticSolver::solve(Vec U, StaticReport* report) {
       PetscCall(VecCopy(last, U));
       continue;
     }
-    if (++cuts > settings_.max_cuts) break;
+    if (++cuts > max_cuts) break;
     increment *= 0.5;  // back to the last equilibrium with a smaller step
     PetscCall(VecCopy(last, U));
   }

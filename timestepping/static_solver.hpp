@@ -15,6 +15,9 @@ namespace latticedyn {
 struct StaticSettings {
   double time = 0.0;       ///< time at which drives and loads are evaluated
   int load_steps = 1;      ///< equal increments of gravity and nodal loads
+  /// U is the equilibrium of a nearby model under full load (a warm start in a batch chain): one
+  /// Newton solve at full load instead of a ramp from zero, which would unload the state first.
+  bool warm_start = false;
   int max_cuts = 8;        ///< halvings of a failed increment before giving up
   double rtol = 1e-10;     ///< SNES relative residual tolerance
   double atol = 1e-8;      ///< SNES absolute residual tolerance (scaled units: N)

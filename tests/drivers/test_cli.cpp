@@ -1,6 +1,8 @@
 // The latticedyn command as a user meets it: exit codes, one-line input errors with file:line and
 // key and no output written, results written and readable, solver failures reported with where
 // they happened and the results up to then kept, and no hang on several MPI ranks.
+#include "command_runner.hpp"
+
 #include <gtest/gtest.h>
 #include <hdf5.h>
 
@@ -18,17 +20,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Outcome {
-  int code = -1;
-  std::string out, err;
-};
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using latticedyn::testing::Outcome;
+using latticedyn::testing::slurp;
 
 class Cli : public ::testing::Test {
  protected:
@@ -45,14 +38,7 @@ class Cli : public ::testing::Test {
     return dir_ / name;
   }
   Outcome run(const std::string& args, const std::string& launcher = "") {
-    const std::string cmd = "cd " + dir_.string() + " && timeout 120 " + launcher + " " + LATTICEDYN_EXE + " " + args +
-                            " > out.txt 2> err.txt";
-    const int status = std::system(cmd.c_str());
-    Outcome o;
-    o.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    o.out = slurp(dir_ / "out.txt");
-    o.err = slurp(dir_ / "err.txt");
-    return o;
+    return latticedyn::testing::run_in(dir_, LATTICEDYN_EXE, args, launcher, 120);
   }
   fs::path dir_;
 };
@@ -209,9 +195,7 @@ TEST_F(Cli, StaticFailureOfAnUnsupportedBodyIsReported) {
 TEST_F(Cli, InputErrorOnTwoRanksEndsBothWithoutHanging) {
   write("bad.yaml", replaced(kPendulum, "    mass: 2.0\n", "    mass: -2.0\n"));
   // Open MPI refuses root without these (CI runs as root); 2 ranks on any machine.
-  const std::string mpiexec = std::string("env OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 ") + MPIEXEC +
-                              " --oversubscribe -n 2";
-  const Outcome o = run("run bad.yaml --output out", mpiexec);
+  const Outcome o = run("run bad.yaml --output out", latticedyn::testing::mpiexec(MPIEXEC, 2));
   EXPECT_EQ(o.code, 2) << o.out << o.err;
   EXPECT_NE(o.err.find("bad.yaml:9:"), std::string::npos) << o.err;
   EXPECT_FALSE(fs::exists(dir_ / "out"));

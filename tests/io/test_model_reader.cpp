@@ -238,3 +238,45 @@ TEST(ModelReader, MissingFileIsAnInputError) {
 
 }  // namespace
 }  // namespace latticedyn
+
+namespace latticedyn {
+namespace {
+
+// Overrides (batch runs): values replaced at dotted paths through maps and list items (by name
+// or index) after the base is merged, a new last key added, a path that leads nowhere rejected
+// at the override's origin.
+TEST_F(BaseFiles, OverridesReplaceValuesAtDottedPaths) {
+  write("base.yaml", kValid);
+  const std::string path = write("top.yaml", "base: base.yaml\ntitle: on a base\n");
+  auto override_at = [](const std::string& p, const YAML::Node& v) {
+    KeyOverride o;
+    o.path = p;
+    o.value = v;
+    o.origin_file = "batch.yaml";
+    o.origin_line = 7;
+    o.origin_column = 3;
+    return o;
+  };
+  const Simulation plain = read_simulation(path);
+  const Simulation sim = read_simulation(
+      path, {override_at("bodies.arm.mass", YAML::Node(6.0)), override_at("bodies.arm.centroid.0", YAML::Node(0.25)),
+             override_at("gravity.magnitude", YAML::Node(1.62)), override_at("title", YAML::Node("changed"))});
+  EXPECT_EQ(sim.model.title, "changed");
+  EXPECT_NEAR(sim.model.gravity.norm(), 1.62, 1e-12);
+  EXPECT_NEAR(plain.model.gravity.norm(), 9.8, 1e-12);
+  const InputNode root = InputNode::load_file(path, {override_at("bodies.0.mass", YAML::Node(6.0))});
+  EXPECT_DOUBLE_EQ(root.at_path("bodies.arm.mass")->as_double(), 6.0);
+  EXPECT_DOUBLE_EQ(root.at_path("bodies.arm.centroid.0")->as_double(), 0.5);
+  EXPECT_FALSE(root.at_path("bodies.nobody.mass"));
+  try {
+    (void)InputNode::load_file(path, {override_at("bodies.arm.joints.elbow.position", YAML::Node(1.0))});
+    FAIL() << "a path through a missing list item must be rejected";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("batch.yaml:7:3:"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("without an item named 'elbow'"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW((void)InputNode::load_file(path, {override_at("solvr.static.load_steps", YAML::Node(2))}), InputError);
+}
+
+}  // namespace
+}  // namespace latticedyn
