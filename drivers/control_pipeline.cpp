@@ -320,7 +320,7 @@ ControlSummary solve_control(const ControlSpec& spec, const BatchSummary& batch,
     std::vector<std::vector<double>> cols(7);
     double sum2 = 0, worst = 0;
     int inside = 0;
-    double settle_lo[2] = {1e300, 1e300}, settle_hi[2] = {-1e300, -1e300}, settle_sum[2] = {0, 0};
+    double settle_lo[2] = {1e300, 1e300}, settle_hi[2] = {-1e300, -1e300};
     int settled = 0;
     for (std::size_t i = 0; i < tracker.times.size(); ++i) {
       const double tt = tracker.times[i], tau = tt - table.lead_time;
@@ -340,7 +340,6 @@ ControlSummary solve_control(const ControlSpec& spec, const BatchSummary& batch,
         for (int c = 0; c < 2; ++c) {
           settle_lo[c] = std::min(settle_lo[c], v[c]);
           settle_hi[c] = std::max(settle_hi[c], v[c]);
-          settle_sum[c] += v[c];
         }
         ++settled;
       }
@@ -350,8 +349,9 @@ ControlSummary solve_control(const ControlSpec& spec, const BatchSummary& batch,
     summary.tracking_rms = inside ? std::sqrt(sum2 / inside) : 0.0;
     if (settled > 0) {
       summary.residual_sway = 0.5 * std::max(settle_hi[0] - settle_lo[0], settle_hi[1] - settle_lo[1]);
-      summary.final_offset =
-          std::hypot(settle_sum[0] / settled - p.x_target(0), settle_sum[1] / settled - p.x_target(1));
+      // The centre of the sway, not its mean: the window holds no whole number of periods.
+      summary.final_offset = std::hypot(0.5 * (settle_lo[0] + settle_hi[0]) - p.x_target(0),
+                                        0.5 * (settle_lo[1] + settle_hi[1]) - p.x_target(1));
     }
     const DynamicReport& r = outcome.dynamics;
     std::snprintf(buf, sizeof buf,
@@ -362,7 +362,7 @@ ControlSummary solve_control(const ControlSpec& spec, const BatchSummary& batch,
                   "| tracking error during the maneuver, largest | %.4g m |\n"
                   "| tracking error during the maneuver, RMS | %.4g m |\n"
                   "| residual sway after the drives stop (half peak-to-peak, x or z) | %.4g m |\n"
-                  "| mean end point after the drives stop, distance to the target | %.4g m |\n\n",
+                  "| centre of the sway after the drives stop, distance to the target | %.4g m |\n\n",
                   spec.mapping.model_path.c_str(), t_end, table.lead_time, maneuver_end, table.times.back(),
                   spec.time_step, r.steps, r.newton_iterations, r.wall_seconds, summary.tracking_max,
                   summary.tracking_rms, summary.residual_sway, summary.final_offset);

@@ -145,6 +145,34 @@ output: {directory: list}
   EXPECT_NEAR(d_heavy / d_light, 4.0, 0.02);
 }
 
+// analysis: run: each case runs the model's statics, then its dynamics (a section the batch adds),
+// and the measures come from the last state. From its equilibrium the truss stays put, so the
+// run's final positions are the static batch's.
+TEST_F(Batch, DynamicRunsEndWhereTheStaticsPutTheTruss) {
+  const std::string cases = R"(cases:
+  - {name: light, set: {loads.load_A.force: [0, 0, -5000]}}
+  - {name: heavy, set: {loads.load_A.force: [0, 0, -20000]}}
+measures:
+  - {name: node_a, position_of: bar1.2}
+)";
+  write("static.yaml", "model: truss.yaml\n" + cases + "output: {directory: static}\n");
+  write("run.yaml", "model: truss.yaml\nanalysis: run\nset: {solver.dynamics: {t_end: 0.02, time_step: 0.001}}\n" +
+                        cases + "output: {directory: run}\n");
+  ASSERT_EQ(run("batch static.yaml").code, 0);
+  const Outcome o = run("batch run.yaml");
+  ASSERT_EQ(o.code, 0) << o.out << o.err;
+  EXPECT_NE(o.out.find("dynamic analysis"), std::string::npos) << o.out;
+  const auto a = read_csv(dir_ / "static" / "static.csv"), b = read_csv(dir_ / "run" / "run.csv");
+  ASSERT_EQ(a.size(), 2u);
+  ASSERT_EQ(b.size(), 2u);
+  for (std::size_t i = 0; i < 2; ++i) {
+    EXPECT_EQ(b[i].at("status"), "ok");
+    EXPECT_GT(std::stod(b[i].at("newton_iterations")), std::stod(a[i].at("newton_iterations")));
+    EXPECT_NEAR(std::stod(a[i].at("node_a_z")), std::stod(b[i].at("node_a_z")), 1e-7);
+  }
+  EXPECT_LT(std::stod(b[1].at("node_a_z")), std::stod(b[0].at("node_a_z")));
+}
+
 TEST_F(Batch, ResumeAfterInterruptionSkipsFinishedCasesAndGivesTheSameTable) {
   write("grid.yaml", kTargetGrid);
   ASSERT_EQ(run("batch grid.yaml --output first").code, 0);
