@@ -41,13 +41,11 @@ struct ChainCarry {
   double goal = kNaN, slope = kNaN;  // target chains: the last case's goal and d(adjusted)/d(measure)
 };
 
+// A target's measure is scalar: its single column is named after it.
 int measure_column(const BatchSpec& spec, const std::string& name) {
-  int col = 0;
-  for (const BatchMeasure& m : spec.measures) {
-    if (m.name == name) return col;
-    col += static_cast<int>(m.columns().size());
-  }
-  return -1;
+  const auto cols = measure_columns(spec);
+  const auto it = std::find(cols.begin(), cols.end(), name);
+  return it == cols.end() ? -1 : static_cast<int>(it - cols.begin());
 }
 
 // The case's record values: [adjusted], set values, measures.
@@ -56,11 +54,7 @@ std::vector<double> record_values(const BatchSpec& spec, const BatchCase& bc, st
   std::vector<double> v;
   if (spec.target_parameter >= 0) v.push_back(adjusted.value_or(kNaN));
   v.insert(v.end(), bc.set_values.begin(), bc.set_values.end());
-  const std::size_t count = [&] {
-    std::size_t n = 0;
-    for (const BatchMeasure& m : spec.measures) n += m.columns().size();
-    return n;
-  }();
+  const std::size_t count = measure_columns(spec).size();
   if (measures.size() == count)
     v.insert(v.end(), measures.begin(), measures.end());
   else
@@ -72,22 +66,15 @@ CaseRecord solve_case(const BatchSpec& spec, const BatchCase& bc, CaseSolver& so
   const auto t0 = std::chrono::steady_clock::now();
   CaseRecord r;
   r.index = bc.index;
-  if (spec.dynamics) {
-    Evaluation ev = solver.run(bc.overrides);
+  if (spec.target_parameter < 0) {  // one solve: the model's run, or its equilibrium
+    const double s = bc.values.empty() ? 0.0 : bc.values.back();  // a case list may set nothing numeric
+    Evaluation ev = spec.dynamics ? solver.run(bc.overrides) : solver.statics(bc.overrides, carry->history.predict(s));
     r.evaluations = 1;
     r.newton_iterations = ev.newton;
     r.ok = ev.ok;
     r.error = ev.error;
     r.values = record_values(spec, bc, std::nullopt, ev.measures);
-  } else if (spec.target_parameter < 0) {
-    const double s = bc.values.back();
-    Evaluation ev = solver.statics(bc.overrides, carry->history.predict(s));
-    r.evaluations = 1;
-    r.newton_iterations = ev.newton;
-    r.ok = ev.ok;
-    r.error = ev.error;
-    r.values = record_values(spec, bc, std::nullopt, ev.measures);
-    if (ev.ok) {
+    if (ev.ok && !spec.dynamics) {
       r.state = ev.state;
       if (spec.warm_start) carry->history.add(s, std::move(ev.state));
     }

@@ -75,7 +75,7 @@ Evaluation CaseSolver::statics(const std::vector<KeyOverride>& overrides, const 
   const bool warm_start = static_cast<PetscInt>(warm.size()) == n;
   SimulationOutcome outcome;
   if (warm_start) {
-    set_state(U, warm);
+    set_full_state(U, warm);
     sim->statics.warm_start = true;  // already loaded: one Newton solve from the neighbour
     PetscCallAbort(comm_, simulate(*sim, sa, U, V, true, false, nullptr, &outcome));
     ev.newton += outcome.statics.newton_iterations;
@@ -126,13 +126,14 @@ bool CaseSolver::read(const std::vector<KeyOverride>& overrides, std::optional<S
   }
 }
 
-void CaseSolver::set_state(Vec U, const std::vector<double>& full) {
+void set_full_state(Vec U, const std::vector<double>& full) {
+  MPI_Comm comm = PetscObjectComm(reinterpret_cast<PetscObject>(U));
   PetscInt lo = 0, hi = 0;
-  PetscCallAbort(comm_, VecGetOwnershipRange(U, &lo, &hi));
+  PetscCallAbort(comm, VecGetOwnershipRange(U, &lo, &hi));
   PetscScalar* u = nullptr;
-  PetscCallAbort(comm_, VecGetArray(U, &u));
+  PetscCallAbort(comm, VecGetArray(U, &u));
   for (PetscInt i = lo; i < hi; ++i) u[i - lo] = full[i];
-  PetscCallAbort(comm_, VecRestoreArray(U, &u));
+  PetscCallAbort(comm, VecRestoreArray(U, &u));
 }
 
 void CaseSolver::finish(SystemAssembler& sa, double t, Vec U, Vec V, Evaluation* ev) {
@@ -140,8 +141,7 @@ void CaseSolver::finish(SystemAssembler& sa, double t, Vec U, Vec V, Evaluation*
   PetscCallAbort(comm_, sa.gather(t, U, V, nullptr, Parametrization::rotation_vector_rates, &state));
   int rank = 0;
   MPI_Comm_rank(comm_, &rank);
-  int count = 0;
-  for (const BatchMeasure& m : spec_.measures) count += static_cast<int>(m.columns().size());
+  const int count = static_cast<int>(measure_columns(spec_).size());
   ev->measures.assign(count, kNaN);
   if (rank == 0) ev->measures = evaluate_measures(measures_, state);
   MPI_Bcast(ev->measures.data(), count, MPI_DOUBLE, 0, comm_);

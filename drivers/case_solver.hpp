@@ -16,6 +16,9 @@ namespace latticedyn {
 
 class SystemAssembler;
 
+/// Sets U (distributed) from the full state vector `full` (every rank holds all of it).
+void set_full_state(Vec U, const std::vector<double>& full);
+
 /// A measure's joints and body, resolved in the model once.
 struct ResolvedMeasure {
   const BatchMeasure* spec;
@@ -53,8 +56,6 @@ class CaseSolver {
 
  private:
   bool read(const std::vector<KeyOverride>& overrides, std::optional<Simulation>* sim, Evaluation* ev);
-
-  void set_state(Vec U, const std::vector<double>& full);
 
   // Measures on the group's first rank, shared; the full state on every rank of the group.
   void finish(SystemAssembler& sa, double t, Vec U, Vec V, Evaluation* ev);

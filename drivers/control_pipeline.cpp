@@ -5,6 +5,7 @@
 #include "core/control_table.hpp"
 #include "core/drive.hpp"
 #include "drivers/batch_runner.hpp"
+#include "drivers/case_solver.hpp"
 #include "drivers/observers.hpp"
 #include "drivers/simulation.hpp"
 
@@ -88,7 +89,6 @@ void write_csv(const fs::path& p, const std::string& header, const std::vector<s
 
 // The model with the control table as its drives, a dynamics section and its own output folder.
 fs::path write_verification_model(const ControlSpec& spec, const ControlTable& table, double t_end, const fs::path& dir) {
-  const YAML::Node model = YAML::LoadFile(spec.mapping.model_path);
   const InputNode merged = InputNode::load_file(spec.mapping.model_path);  // with its bases
   YAML::Node drives = YAML::Clone(merged["drives"].yaml());
   for (int c = 0; c < 2; ++c) {
@@ -128,7 +128,6 @@ fs::path write_verification_model(const ControlSpec& spec, const ControlTable& t
     << "# from the crane's own pose, which may be too far from the table's first rope lengths.\n"
     << out.c_str() << "\n";
   if (!f) throw std::runtime_error("cannot write " + p.string());
-  (void)model;
   return p;
 }
 
@@ -137,6 +136,10 @@ ControlSummary solve_control(const ControlSpec& spec, const BatchSummary& batch,
   ControlSummary summary;
   std::string report;
   char buf[1024];
+  // On a failure the report keeps what was done up to it.
+  auto write_partial_report = [&] {
+    std::ofstream(dir / "control_report.md") << "# Quasi-static optimal control\n\n" << report;
+  };
   const MapData d = map_data(spec, batch);
   if (d.in0.size() < 9) {
     summary.message = "the mapping has " + std::to_string(d.in0.size()) + " equilibria; the surfaces need at least 9";
@@ -188,7 +191,7 @@ ControlSummary solve_control(const ControlSpec& spec, const BatchSummary& batch,
   report += buf;
   if (!opt.converged) {
     summary.message = "the optimal trajectory did not converge: " + opt.message;
-    std::ofstream(dir / "control_report.md") << "# Quasi-static optimal control\n\n" << report;
+    write_partial_report();
     return summary;
   }
 
@@ -278,10 +281,7 @@ ControlSummary solve_control(const ControlSpec& spec, const BatchSummary& batch,
       PetscInt n = 0;
       PetscCallAbort(PETSC_COMM_SELF, VecGetSize(U, &n));
       if (static_cast<PetscInt>(c.state.size()) != n) throw std::runtime_error("the mapped states do not fit the verification model");
-      PetscScalar* u = nullptr;
-      PetscCallAbort(PETSC_COMM_SELF, VecGetArray(U, &u));
-      std::copy(c.state.begin(), c.state.end(), u);
-      PetscCallAbort(PETSC_COMM_SELF, VecRestoreArray(U, &u));
+      set_full_state(U, c.state);
       sim.statics.warm_start = true;
       std::snprintf(buf, sizeof buf,
                     "The run starts from the static equilibrium at the table's first rope lengths, reached from mapped "
@@ -312,7 +312,7 @@ ControlSummary solve_control(const ControlSpec& spec, const BatchSummary& batch,
     if (!outcome.ok()) {
       summary.message = "the verification run failed: " +
                         (outcome.statics.converged ? outcome.dynamics.message : outcome.statics.message);
-      std::ofstream(dir / "control_report.md") << "# Quasi-static optimal control\n\n" << report;
+      write_partial_report();
       return summary;
     }
     // Tracking: the load against the optimal trajectory shifted by the table's lead time.

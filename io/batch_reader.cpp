@@ -266,13 +266,20 @@ BatchSpec read_batch(const std::string& path) {
   return spec;
 }
 
+std::vector<std::string> measure_columns(const BatchSpec& spec) {
+  std::vector<std::string> cols;
+  for (const BatchMeasure& m : spec.measures)
+    for (const std::string& c : m.columns()) cols.push_back(c);
+  return cols;
+}
+
 std::vector<std::string> result_columns(const BatchSpec& spec) {
   std::vector<std::string> cols;
   if (spec.target_parameter >= 0) cols.push_back(spec.parameters[spec.target_parameter].target->adjust);
   for (const BatchParameter& p : spec.parameters)
     for (const LinearSetting& s : p.set) cols.push_back(s.path);
-  for (const BatchMeasure& m : spec.measures)
-    for (const std::string& c : m.columns()) cols.push_back(c);
+  const auto measured = measure_columns(spec);
+  cols.insert(cols.end(), measured.begin(), measured.end());
   return cols;
 }
 

@@ -79,6 +79,9 @@ struct BatchSpec {
 /// paths that do not exist in the model and target paths that hold no number.
 BatchSpec read_batch(const std::string& path);
 
+/// The measures' columns in order (BatchMeasure::columns of each).
+std::vector<std::string> measure_columns(const BatchSpec& spec);
+
 /// The result columns of every case (after the parameter columns): the adjusted value of a
 /// target, the model values the grid sets, then the measures' columns.
 std::vector<std::string> result_columns(const BatchSpec& spec);
