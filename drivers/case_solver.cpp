@@ -69,7 +69,7 @@ Evaluation CaseSolver::statics(const std::vector<KeyOverride>& overrides, const 
   Vec U, V;
   PetscCallAbort(comm_, sa.create_vector(&U));
   PetscCallAbort(comm_, sa.create_vector(&V));
-  PetscCallAbort(comm_, sa.initial_state(U, V));
+  PetscCallAbort(comm_, initial_state(*sim, sa, U, V));
   PetscInt n = 0;
   PetscCallAbort(comm_, VecGetSize(U, &n));
   const bool warm_start = static_cast<PetscInt>(warm.size()) == n;
@@ -81,7 +81,7 @@ Evaluation CaseSolver::statics(const std::vector<KeyOverride>& overrides, const 
     ev.newton += outcome.statics.newton_iterations;
   }
   if (!warm_start || (!outcome.statics.converged && cold_retry)) {
-    PetscCallAbort(comm_, sa.initial_state(U, V));
+    PetscCallAbort(comm_, initial_state(*sim, sa, U, V));
     sim->statics.warm_start = false;
     PetscCallAbort(comm_, simulate(*sim, sa, U, V, true, false, nullptr, &outcome));
     ev.newton += outcome.statics.newton_iterations;
@@ -104,7 +104,7 @@ Evaluation CaseSolver::run(const std::vector<KeyOverride>& overrides) {
   Vec U, V;
   PetscCallAbort(comm_, sa.create_vector(&U));
   PetscCallAbort(comm_, sa.create_vector(&V));
-  PetscCallAbort(comm_, sa.initial_state(U, V));
+  PetscCallAbort(comm_, initial_state(*sim, sa, U, V));
   SimulationOutcome outcome;
   PetscCallAbort(comm_, simulate(*sim, sa, U, V, sim->run_static, true, nullptr, &outcome));
   ev.newton = outcome.statics.newton_iterations + static_cast<int>(outcome.dynamics.newton_iterations);
@@ -124,16 +124,6 @@ bool CaseSolver::read(const std::vector<KeyOverride>& overrides, std::optional<S
     ev->error = e.what();
     return false;
   }
-}
-
-void set_full_state(Vec U, const std::vector<double>& full) {
-  MPI_Comm comm = PetscObjectComm(reinterpret_cast<PetscObject>(U));
-  PetscInt lo = 0, hi = 0;
-  PetscCallAbort(comm, VecGetOwnershipRange(U, &lo, &hi));
-  PetscScalar* u = nullptr;
-  PetscCallAbort(comm, VecGetArray(U, &u));
-  for (PetscInt i = lo; i < hi; ++i) u[i - lo] = full[i];
-  PetscCallAbort(comm, VecRestoreArray(U, &u));
 }
 
 void CaseSolver::finish(SystemAssembler& sa, double t, Vec U, Vec V, Evaluation* ev) {

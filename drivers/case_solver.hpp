@@ -16,9 +16,6 @@ namespace latticedyn {
 
 class SystemAssembler;
 
-/// Sets U (distributed) from the full state vector `full` (every rank holds all of it).
-void set_full_state(Vec U, const std::vector<double>& full);
-
 /// A measure's joints and body, resolved in the model once.
 struct ResolvedMeasure {
   const BatchMeasure* spec;

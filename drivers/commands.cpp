@@ -91,15 +91,17 @@ int command_solve(Simulation& sim, const CommandOptions& opt, MPI_Comm comm, boo
   Vec U, V;
   PetscCallAbort(comm, sa.create_vector(&U));
   PetscCallAbort(comm, sa.create_vector(&V));
-  PetscCallAbort(comm, sa.initial_state(U, V));
+  PetscCallAbort(comm, initial_state(sim, sa, U, V));
 
   const double t0 = dynamics ? sim.dynamics.t_start : sim.statics.time;
   const double t1 = dynamics ? sim.dynamics.t_end : sim.statics.time;
   OutputObserver out(sa, writer.get(), sim.output.interval, t1);
   ProgressObserver progress(comm, t0, t1);
+  FaultInjection fault(comm);
   ObserverList observers;
   observers.add(&out);
   observers.add(&progress);
+  observers.add(&fault);
   SimulationOutcome outcome;
   PetscCallAbort(comm, simulate(sim, sa, U, V, statics, dynamics, &observers, &outcome));
   progress.done();
@@ -156,7 +158,7 @@ int command_check(const Simulation& sim, MPI_Comm comm) {
   Vec U, V;
   PetscCallAbort(PETSC_COMM_SELF, sa.create_vector(&U));
   PetscCallAbort(PETSC_COMM_SELF, sa.create_vector(&V));
-  PetscCallAbort(PETSC_COMM_SELF, sa.initial_state(U, V));
+  PetscCallAbort(PETSC_COMM_SELF, initial_state(sim, sa, U, V));
   PetscCallAbort(PETSC_COMM_SELF, sa.gather(sim.run_dynamics ? sim.dynamics.t_start : sim.statics.time, U, V, nullptr,
                                             Parametrization::rotation_vector_rates, &state));
   VecDestroy(&U);
@@ -196,7 +198,7 @@ int command_modes(Simulation& sim, const CommandOptions& opt, MPI_Comm comm) {
   Vec U, V, W;
   PetscCallAbort(comm, sa.create_vector(&U));
   PetscCallAbort(comm, sa.create_vector(&V));
-  PetscCallAbort(comm, sa.initial_state(U, V));
+  PetscCallAbort(comm, initial_state(sim, sa, U, V));
   SimulationOutcome outcome;
   std::vector<Mode> modes;
   std::string message;

@@ -48,6 +48,9 @@ ProgressObserver::ProgressObserver(MPI_Comm comm, double t_start, double t_end)
   MPI_Comm_rank(comm, &rank);
   root_ = rank == 0;
   tty_ = isatty(fileno(stderr)) != 0;
+  interval_ = tty_ ? 0.5 : 5.0;
+  PetscCallAbort(comm, PetscOptionsGetReal(nullptr, nullptr, "-progress_after", &after_, nullptr));
+  PetscCallAbort(comm, PetscOptionsGetReal(nullptr, nullptr, "-progress_interval", &interval_, nullptr));
 }
 
 PetscErrorCode ProgressObserver::on_step(const StepInfo& info) {
@@ -55,8 +58,8 @@ PetscErrorCode ProgressObserver::on_step(const StepInfo& info) {
   const auto now = std::chrono::steady_clock::now();
   const double elapsed = std::chrono::duration<double>(now - start_).count();
   const double since = std::chrono::duration<double>(now - last_print_).count();
-  // Nothing for runs shorter than a second; then a line every 0.5 s on a terminal, 5 s in logs.
-  if (elapsed < 1.0 || since < (tty_ ? 0.5 : 5.0)) return 0;
+  // Nothing for runs shorter than a second; the first line once a second has passed.
+  if (elapsed < after_ || (shown_ && since < interval_)) return 0;
   last_print_ = now;
   const double done = (info.time - t_start_) / (t_end_ - t_start_);
   const double eta = done > 0 ? elapsed * (1 - done) / done : 0.0;
@@ -71,6 +74,21 @@ PetscErrorCode ProgressObserver::on_step(const StepInfo& info) {
 
 void ProgressObserver::done() {
   if (root_ && shown_ && tty_) std::fprintf(stderr, "\n");
+}
+
+FaultInjection::FaultInjection(MPI_Comm comm) {
+  PetscInt rank = -1;
+  PetscMPIInt me = 0;
+  MPI_Comm_rank(comm, &me);
+  PetscCallAbort(comm, PetscOptionsGetInt(nullptr, nullptr, "-fault_injection_rank", &rank, nullptr));
+  fail_ = rank == me;
+}
+
+PetscErrorCode FaultInjection::on_step(const StepInfo& info) {
+  PetscFunctionBeginUser;
+  PetscCheck(!fail_ || info.step < 1, PETSC_COMM_SELF, PETSC_ERR_USER,
+             "fault injected on this rank at step %d, t = %g s (-fault_injection_rank)", info.step, info.time);
+  PetscFunctionReturn(0);
 }
 
 PetscErrorCode ObserverList::on_step(const StepInfo& info) {

@@ -31,6 +31,9 @@ class OutputObserver final : public StepObserver {
   int written_ = 0;
 };
 
+/// The progress line on stderr (rank 0): from `-progress_after` seconds of wall time on (default
+/// 1), then every `-progress_interval` seconds (default 0.5 on a terminal, where the line is
+/// rewritten in place, 5 in logs).
 class ProgressObserver final : public StepObserver {
  public:
   ProgressObserver(MPI_Comm comm, double t_start, double t_end);
@@ -44,6 +47,18 @@ class ProgressObserver final : public StepObserver {
   std::chrono::steady_clock::time_point start_, last_print_;
   bool shown_ = false;
   bool tty_ = false;
+  double after_ = 1.0, interval_ = 5.0;
+};
+
+/// A PETSc error raised on one rank at the first step (`-fault_injection_rank R`): shows that an
+/// error on one rank ends the run on all of them instead of leaving the others waiting.
+class FaultInjection final : public StepObserver {
+ public:
+  explicit FaultInjection(MPI_Comm comm);
+  PetscErrorCode on_step(const StepInfo& info) override;
+
+ private:
+  bool fail_ = false;
 };
 
 /// Forwards every step to several observers.

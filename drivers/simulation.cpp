@@ -7,6 +7,23 @@
 
 namespace latticedyn {
 
+PetscErrorCode initial_state(const Simulation& sim, SystemAssembler& sa, Vec U, Vec V) {
+  PetscFunctionBeginUser;
+  PetscCall(sa.initial_state(U, V));
+  if (!sim.start_coordinates.empty()) set_full_state(U, sim.start_coordinates);
+  PetscFunctionReturn(0);
+}
+
+void set_full_state(Vec U, const std::vector<double>& full) {
+  MPI_Comm comm = PetscObjectComm(reinterpret_cast<PetscObject>(U));
+  PetscInt lo = 0, hi = 0;
+  PetscCallAbort(comm, VecGetOwnershipRange(U, &lo, &hi));
+  PetscScalar* u = nullptr;
+  PetscCallAbort(comm, VecGetArray(U, &u));
+  for (PetscInt i = lo; i < hi; ++i) u[i - lo] = full[i];
+  PetscCallAbort(comm, VecRestoreArray(U, &u));
+}
+
 PetscErrorCode simulate(Simulation& sim, SystemAssembler& sa, Vec U, Vec V, bool statics, bool dynamics,
                         StepObserver* observer, SimulationOutcome* outcome) {
   PetscFunctionBeginUser;

@@ -16,6 +16,13 @@ struct SimulationOutcome {
   bool ok() const { return (!static_run || statics.converged) && (!dynamics_run || dynamics.completed); }
 };
 
+/// The state a run starts from: the model's initial state (SystemAssembler::initial_state), its
+/// coordinates replaced by the recorded ones when the model names a start_state. Collective.
+PetscErrorCode initial_state(const Simulation& sim, SystemAssembler& sa, Vec U, Vec V);
+
+/// Sets a distributed vector from its full global-numbering copy (each rank takes its range).
+void set_full_state(Vec U, const std::vector<double>& full);
+
 /// U, V: the initial state (SystemAssembler::initial_state) in, the final state out (rotation-
 /// vector rates). With `statics` the equilibrium replaces U and the rates are zeroed; with
 /// `dynamics` the integrator runs from t_start to t_end and `observer` sees every step. The

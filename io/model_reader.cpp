@@ -6,6 +6,7 @@
 #include "io/drive_reader.hpp"
 #include "io/lattice_readers.hpp"
 #include "io/reader_context.hpp"
+#include "io/recorded_state.hpp"
 
 #include <filesystem>
 #include <map>
@@ -160,10 +161,34 @@ void read_output(const ReaderContext& ctx, const InputNode& n, Simulation& sim) 
     for (const InputNode& j : p->items()) sim.output.probe_joints.push_back(ctx.joint(j));
 }
 
+// A recorded state to start from, checked here against the model so that a file from another
+// model is an input error at its key, before anything is computed.
+void read_start_state(const InputNode& n, Simulation& sim) {
+  n.allow_only({"file", "step"});
+  const InputNode file = n["file"];
+  std::filesystem::path path = file.as_string();
+  if (path.is_relative()) path = std::filesystem::path(file.file()).parent_path() / path;
+  long step = -1;
+  if (auto k = n.get("step")) step = k->as_int();
+  RecordedState state;
+  try {
+    state = read_recorded_state(path, step);
+  } catch (const std::exception& e) {
+    (n.has("step") && std::string(e.what()).find("out of range") != std::string::npos ? n["step"] : file).fail(e.what());
+  }
+  const auto expected = static_cast<std::size_t>(sim.model.num_free_dofs() + sim.model.num_multipliers());
+  if (state.coordinates.size() != expected)
+    file.fail("the recorded state has " + std::to_string(state.coordinates.size()) + " coordinates, this model " +
+              std::to_string(expected) + ": it was written by another model");
+  sim.start_coordinates = std::move(state.coordinates);
+  // Next to an equilibrium already: the static solve starts as a warm one.
+  sim.statics.warm_start = true;
+}
+
 Simulation read(const InputNode& root, const std::string& source) {
   if (!root.is_map()) root.fail("a model file is a map of keys (title, gravity, bodies, ...)");
   root.allow_only({"title", "gravity", "materials", "sections", "truss_sections", "truss_bodies", "drives", "ground",
-                   "bodies", "constraints", "loads", "solver", "output"});
+                   "bodies", "constraints", "loads", "solver", "output", "start_state"});
   Simulation sim;
   sim.source = source;
   const std::string stem = std::filesystem::path(source).stem().string();
@@ -207,6 +232,7 @@ Simulation read(const InputNode& root, const std::string& source) {
     root.fail(what);
   }
   if (sim.model.num_free_dofs() == 0) bodies.fail("every body is fixed: the model has no degree of freedom");
+  if (auto s = root.get("start_state")) read_start_state(*s, sim);
   return sim;
 }
 

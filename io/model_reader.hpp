@@ -28,6 +28,8 @@ struct Simulation {
   DynamicSettings dynamics;
   OutputSettings output;
   std::string petsc_options;  ///< inserted into the options database before the command line
+  /// A recorded state to start from (start_state), in global numbering; empty: the model's own.
+  std::vector<double> start_coordinates;
 };
 
 /// Throws InputError for any bad input (syntax, unknown key, missing field, meaningless value,

@@ -82,6 +82,7 @@ struct ResultWriter::Impl {
   void write_model();
   void create_series();
   void create_viz();
+  void create_state(hsize_t size);
   void compute_step(const ModelState& state);
   void write_probe_header();
   void write_probe_row(const ModelState& state);
@@ -303,6 +304,14 @@ void ResultWriter::Impl::create_series() {
   });
 }
 
+// The solvers' whole coordinate vector, so a later model can start from any recorded step
+// (start_state; io/recorded_state.hpp) without rebuilding it from blocks and joints.
+void ResultWriter::Impl::create_state(hsize_t size) {
+  const Hid g = io::create_group(file.get(), "state", ctx);
+  add(g.get(), "coordinates", {size}, "global coordinate vector (m, rad, model units, multipliers)",
+      [](const ModelState& s, double* out) { std::copy(s.coordinates().begin(), s.coordinates().end(), out); });
+}
+
 void ResultWriter::Impl::create_viz() {
   const auto np = static_cast<hsize_t>(viz->num_points()), nl = static_cast<hsize_t>(viz->num_lines());
   if (nl == 0) return;  // nothing to draw: no /viz and no XDMF
@@ -415,7 +424,10 @@ void ResultWriter::append(const ModelState& state) {
   const io::QuietHdf5Errors quiet;
   const auto step = static_cast<hsize_t>(w.steps);
   try {
-    if (first) w.create_viz();
+    if (first) {
+      w.create_viz();
+      w.create_state(static_cast<hsize_t>(state.coordinates().size()));
+    }
     std::vector<double> row;
     for (auto& o : w.outputs) {
       row.assign(static_cast<std::size_t>(o.series.row_size()), 0.0);

@@ -201,4 +201,80 @@ TEST_F(Cli, InputErrorOnTwoRanksEndsBothWithoutHanging) {
   EXPECT_FALSE(fs::exists(dir_ / "out"));
 }
 
+TEST_F(Cli, ErrorOnOneRankEndsTheRunOnAllRanks) {
+  write("pendulum.yaml", kPendulum);
+  // Rank 1 fails at its first step while rank 0 goes on into the next step's collective solve:
+  // without the abort it would wait there for ever (the time limit would end it with 124).
+  const Outcome o = run("run pendulum.yaml --output out -fault_injection_rank 1",
+                        latticedyn::testing::mpiexec(MPIEXEC, 2));
+  EXPECT_NE(o.code, 0) << o.out << o.err;
+  EXPECT_NE(o.code, 124) << "the run hung: " << o.err;
+  EXPECT_NE(o.err.find("fault injected on this rank"), std::string::npos) << o.err;
+}
+
+TEST_F(Cli, ProgressLineShowsTimeStepsAndEta) {
+  write("pendulum.yaml", kPendulum);
+  // From the first step on (instead of after a second of wall time), one line per step.
+  const Outcome o = run("run pendulum.yaml --output out -progress_after 0 -progress_interval 0");
+  ASSERT_EQ(o.code, 0) << o.err;
+  EXPECT_NE(o.err.find("t = 0.2 / 0.2 s (100.0%)  step 20"), std::string::npos) << o.err;
+  EXPECT_NE(o.err.find("ETA"), std::string::npos) << o.err;
+  EXPECT_GE(std::count(o.err.begin(), o.err.end(), '\n'), 20) << o.err;
+  // Runs shorter than the default second show none.
+  const Outcome quiet = run("run pendulum.yaml --output out2");
+  EXPECT_EQ(quiet.err.find("ETA"), std::string::npos) << quiet.err;
+}
+
+TEST_F(Cli, StartsFromARecordedState) {
+  write("pendulum.yaml", kPendulum);
+  ASSERT_EQ(run("static pendulum.yaml --output out").code, 0);
+  write("again.yaml", "base: pendulum.yaml\nstart_state: {file: out/pendulum.h5}\n");
+  const Outcome o = run("static again.yaml --output out2");
+  ASSERT_EQ(o.code, 0) << o.out << o.err;
+  // Already in equilibrium: no Newton iteration, or one that only polishes round-off.
+  int increments = -1, iterations = -1;
+  const auto at = o.out.find("static equilibrium found: ");
+  ASSERT_NE(at, std::string::npos) << o.out;
+  ASSERT_EQ(std::sscanf(o.out.c_str() + at, "static equilibrium found: %d load increment(s), %d Newton", &increments,
+                        &iterations), 2) << o.out;
+  EXPECT_LE(iterations, 1) << o.out;
+  // The start is the recorded one: the hanging rod's tip straight below the pivot.
+  const std::string csv = slurp(dir_ / "out2/again_probes.csv");
+  std::istringstream lines(csv);
+  std::string header, row;
+  std::getline(lines, header);
+  ASSERT_TRUE(std::getline(lines, row)) << csv;
+  double t = 0, x = 1, y = 1, z = 0;
+  ASSERT_EQ(std::sscanf(row.c_str(), "%lf,%lf,%lf,%lf", &t, &x, &y, &z), 4) << row;
+  EXPECT_NEAR(x, 0.0, 1e-9);
+  EXPECT_NEAR(z, -1.0, 1e-9);
+}
+
+TEST_F(Cli, BadStartStateGivesFileLineKeyExitCodeTwoAndNoOutput) {
+  write("pendulum.yaml", kPendulum);
+  ASSERT_EQ(run("static pendulum.yaml --output rec").code, 0);
+  // A spherical hinge has 3 multipliers instead of 5: the recorded state does not fit.
+  write("other.yaml", replaced(kPendulum, "type: revolute, axis: y,", "type: spherical,"));
+  const Bad cases[] = {
+      {"", "start_state: {file: rec/none.h5}\n", "bad.yaml:2:", "start_state.file: '"},
+      {"", "start_state: {file: pendulum.yaml}\n", "bad.yaml:2:", "not an HDF5 file"},
+      {"", "start_state: {file: rec/pendulum.h5, step: 3}\n", "bad.yaml:2:", "start_state.step"},
+      {"", "start_state: {path: rec/pendulum.h5}\n", "bad.yaml:2:", "start_state.path"},
+  };
+  for (const Bad& b : cases) {
+    write("bad.yaml", std::string("base: pendulum.yaml\n") + b.to);
+    const Outcome o = run("run bad.yaml --output out");
+    EXPECT_EQ(o.code, 2) << b.key << ": " << o.err;
+    EXPECT_EQ(o.err.rfind(std::string("latticedyn: error: ") + b.where, 0), 0u) << o.err;
+    EXPECT_NE(o.err.find(b.key), std::string::npos) << o.err;
+    EXPECT_FALSE(fs::exists(dir_ / "out")) << "no output for bad input";
+  }
+  write("bad.yaml", "base: other.yaml\nstart_state: {file: rec/pendulum.h5}\n");
+  const Outcome o = run("static bad.yaml --output out");
+  EXPECT_EQ(o.code, 2) << o.err;
+  EXPECT_NE(o.err.find("bad.yaml:2:"), std::string::npos) << o.err;
+  EXPECT_NE(o.err.find("written by another model"), std::string::npos) << o.err;
+  EXPECT_FALSE(fs::exists(dir_ / "out"));
+}
+
 }  // namespace

@@ -100,6 +100,32 @@ TEST(Control, PipelineOnOneAndTwoRanks) {
   EXPECT_NEAR(tr["x"].front(), -10.0, 0.25);
   EXPECT_NEAR(tr["z"].front(), 0.0, 0.25);
   EXPECT_NEAR(tr["y"].front(), 0.0, 1e-3);
+
+  // The exported drives file runs on its own: it starts from the recorded start equilibrium, so
+  // its static solve has nothing left to do and finds the load where the verification run began.
+  const Outcome alone = run("static one/control_drives.yaml --output alone", "");
+  ASSERT_EQ(alone.code, 0) << alone.out << alone.err;
+  int increments = -1, iterations = -1;
+  const auto found = alone.out.find("static equilibrium found: ");
+  ASSERT_NE(found, std::string::npos) << alone.out;
+  ASSERT_EQ(std::sscanf(alone.out.c_str() + found, "static equilibrium found: %d load increment(s), %d Newton",
+                        &increments, &iterations), 2) << alone.out;
+  EXPECT_LE(iterations, 2) << alone.out;
+  auto probe = read_columns(dir / "alone" / "control_drives_probes.csv");
+  ASSERT_FALSE(probe.empty());
+  std::string joint;
+  for (const auto& [name, column] : probe)
+    if (name.size() > 2 && name.ends_with(".x")) joint = name.substr(0, name.size() - 2);
+  ASSERT_FALSE(joint.empty());
+  EXPECT_NEAR(probe[joint + ".x"].back(), tr["x"].front(), 1e-3);
+  EXPECT_NEAR(probe[joint + ".z"].back(), tr["z"].front(), 1e-3);
+
+  // The report's plots (the PNG half of scripts/control.sh).
+  const Outcome plots = latticedyn::testing::run_in(dir, "/usr/bin/python3", std::string(CONTROL_REPORT) + " one", "", 300);
+  ASSERT_EQ(plots.code, 0) << plots.out << plots.err;
+  for (const char* f : {"control_map.png", "control_optimal.png", "control_trajectory.png", "control_table.png",
+                        "control_tracking.png"})
+    EXPECT_GT(fs::exists(dir / "one" / f) ? fs::file_size(dir / "one" / f) : 0u, 10000u) << f;
   fs::remove_all(dir);
 }
 

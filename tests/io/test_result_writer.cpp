@@ -1,5 +1,6 @@
 // Round trip of the results writer: states of small models written, the .h5 read back with the
 // HDF5 C API, the XDMF checked against it, the CSV parsed; readability mid-run and error paths.
+#include "io/recorded_state.hpp"
 #include "io/result_writer.hpp"
 
 #include "assembly/system_assembler.hpp"
@@ -456,6 +457,40 @@ TEST(ResultWriter, RoundTripOfThreeSteps) {
     EXPECT_EQ(std::stod(csv[k + 1][2]), s.joint_position(probe_d).y());  // %.17g reads back exactly
     EXPECT_EQ(std::stod(csv[k + 1][12]), s.joint_velocity(probe_a).z());
   }
+}
+
+TEST(ResultWriter, RecordsTheCoordinatesAStartStateReadsBack) {
+  ScratchDir dir;
+  Recording run(testing::kitchen_sink_model(), 3);
+  ResultWriter writer(run.model, {dir.path.string(), "results", {}});
+  for (const auto& s : run.states) writer.append(s);
+  writer.close();
+  {
+    H5File f(writer.h5_path());
+    const auto q = read<double>(f.id, "/state/coordinates");
+    ASSERT_EQ(q.dims, (std::vector<hsize_t>{3, run.states[0].coordinates().size()}));
+  }
+  for (long step : {0L, 1L, -1L}) {
+    const RecordedState r = read_recorded_state(writer.h5_path(), step);
+    const std::size_t k = step < 0 ? 2 : static_cast<std::size_t>(step);
+    const auto expected = run.states[k].coordinates();
+    EXPECT_EQ(r.coordinates, std::vector<double>(expected.begin(), expected.end())) << step;
+    EXPECT_EQ(r.time, run.states[k].time());
+    EXPECT_EQ(r.steps, 3);
+  }
+  auto message = [&](const fs::path& p, long step) {
+    try {
+      read_recorded_state(p, step);
+    } catch (const std::runtime_error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(message(writer.h5_path(), 3).find("step 3 is out of range: the file holds 3 steps"), std::string::npos);
+  EXPECT_NE(message(writer.h5_path(), -4).find("out of range"), std::string::npos);
+  EXPECT_NE(message(dir.path / "none.h5", -1).find("no such file"), std::string::npos);
+  std::ofstream(dir.path / "text.h5") << "not hdf5";
+  EXPECT_NE(message(dir.path / "text.h5", -1).find("not an HDF5 file"), std::string::npos);
 }
 
 TEST(ResultWriter, FilesAreReadableWhileTheWriterIsOpen) {
