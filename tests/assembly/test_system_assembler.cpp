@@ -6,6 +6,8 @@
 #include "sample_models.hpp"
 
 #include <gtest/gtest.h>
+
+#include <ostream>
 #include <petscvec.h>
 
 #include <random>
@@ -47,6 +49,8 @@ struct Case {
   bool end_of_step;  // generalized-alpha: constraints and multipliers at Uc = U0 + (U - U0)/af
   double cq, cv, ca;
 };
+// ctest names the instances by this (stable across builds), not by their bytes.
+void PrintTo(const Case& c, std::ostream* os) { *os << c.name; }
 
 class AssembledJacobian : public ::testing::TestWithParam<Case> {};
 

@@ -56,6 +56,66 @@ TEST(Cable, TangentsMatchFiniteDifferencesWithDrivenRestLength) {
     testing::expect_tangents_match_finite_differences(cable, taut_state(rng), ctx);
 }
 
+// The taut state turned by a large rotation (up to 2.5 rad): positions, slopes and rates alike.
+std::vector<SlotState<double>> rotated(std::vector<SlotState<double>> s, std::mt19937& rng) {
+  std::uniform_real_distribution<double> u(-1, 1);
+  const Vec3 axis = Vec3(u(rng), u(rng), u(rng)).normalized();
+  const Mat3 R = rotation_matrix(Vec3(2.5 * std::abs(u(rng)) * axis));
+  for (auto& x : s) {
+    x.pos = R * x.pos;
+    x.vel = R * x.vel;
+    x.acc = R * x.acc;
+  }
+  return s;
+}
+
+// Partly slack: ends 4.9 m apart on a 5 m rope, slope stretched at one end and short and bent at
+// the other, so that the Gauss points near end 1 are in tension and those near end 2 are not.
+std::vector<SlotState<double>> partly_slack_state(std::mt19937& rng) {
+  std::uniform_real_distribution<double> u(-1, 1);
+  auto v3 = [&] { return Vec3(u(rng), u(rng), u(rng)); };
+  std::vector<SlotState<double>> s(4);
+  s[0].pos = v3();
+  s[2].pos = s[0].pos + Vec3(4.9, 0.1 * u(rng), 0.1 * u(rng));
+  s[1].pos = Vec3(1.1, 0, 0) + 0.02 * v3();
+  s[3].pos = Vec3(0.8, 0.3, 0) + 0.02 * v3();
+  for (auto& x : s) {
+    x.vel = v3();
+    x.acc = v3();
+  }
+  return s;
+}
+
+TEST(Cable, TangentsMatchFiniteDifferencesAtLargeRotationsAndPartlySlack) {
+  std::mt19937 rng(34);
+  CableProperties p = rope();
+  p.material.youngs_modulus = 1e5;
+  const Cable cable(p);
+  const ElementContext ctx{Vec3(0, 0, -9.81), 0.0};
+  for (int trial = 0; trial < 10; ++trial) {
+    testing::expect_tangents_match_finite_differences(cable, rotated(taut_state(rng), rng), ctx);
+    testing::expect_tangents_match_finite_differences(cable, rotated(partly_slack_state(rng), rng), ctx);
+  }
+}
+
+TEST(Cable, RigidMotionCarriesNoForceInAnyOrientation) {
+  std::mt19937 rng(35);
+  const Cable cable(rope(5.0));
+  for (int trial = 0; trial < 10; ++trial) {
+    std::vector<SlotState<double>> s(4);
+    s[2].pos = Vec3(5.0, 0, 0);  // unstretched and straight
+    s[1].pos = s[3].pos = Vec3(1, 0, 0);
+    s = rotated(s, rng);
+    const Vec3 shift(3 * trial, -1, 2);
+    s[0].pos += shift;
+    s[2].pos += shift;
+    VecX r(12);
+    cable.residual(s, ElementContext{}, r);
+    EXPECT_LT(r.norm(), 1e-6) << trial;
+    EXPECT_LT(std::abs(*cable.axial_force(s, ElementContext{})), 1e-6);  // EA = 1.3e8 N times round-off
+  }
+}
+
 TEST(Cable, PowerEqualsRateOfEnergy) {
   std::mt19937 rng(33);
   CableProperties p = rope();

@@ -10,6 +10,8 @@
 
 #include <gtest/gtest.h>
 
+#include <ostream>
+
 #include <cmath>
 #include <string>
 
@@ -149,6 +151,8 @@ struct BadMember {
   std::string replace, with;
   std::string key, says;
 };
+// ctest names the instances by this (stable across builds), not by their bytes.
+void PrintTo(const BadMember& c, std::ostream* os) { *os << c.name; }
 
 class RejectsBadMember : public ::testing::TestWithParam<BadMember> {};
 

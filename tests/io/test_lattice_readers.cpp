@@ -7,6 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include <ostream>
+
 #include <algorithm>
 #include <string>
 
@@ -102,6 +104,8 @@ struct BadLattice {
   const char* name;
   std::string replace, with, key, says;
 };
+// ctest names the instances by this (stable across builds), not by their bytes.
+void PrintTo(const BadLattice& c, std::ostream* os) { *os << c.name; }
 
 class RejectsBadLattice : public ::testing::TestWithParam<BadLattice> {};
 

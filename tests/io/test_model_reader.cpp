@@ -7,6 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include <ostream>
+
 #include <unistd.h>
 
 #include <algorithm>
@@ -83,6 +85,8 @@ struct BadInput {
   std::string key;      // expected key path
   std::string says;     // part of the message
 };
+// ctest names the instances by this (stable across builds), not by their bytes.
+void PrintTo(const BadInput& c, std::ostream* os) { *os << c.name; }
 
 std::string edited(const BadInput& b) {
   std::string text = kValid;
