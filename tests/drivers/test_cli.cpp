@@ -277,4 +277,24 @@ TEST_F(Cli, BadStartStateGivesFileLineKeyExitCodeTwoAndNoOutput) {
   EXPECT_FALSE(fs::exists(dir_ / "out"));
 }
 
+TEST_F(Cli, StaticLineSearchesAreOptions) {
+  // Full Newton steps by default (docs/decisions/0002); every SNES line search by option, with
+  // the same equilibrium: the rod hanging straight down.
+  write("pendulum.yaml", kPendulum);
+  for (const char* search : {"basic", "bt", "l2", "cp"}) {
+    const std::string out = std::string("out_") + search;
+    const Outcome o = run("static pendulum.yaml --output " + out + " -snes_linesearch_type " + search +
+                          " -snes_view -options_left 0");
+    ASSERT_EQ(o.code, 0) << search << ": " << o.out << o.err;
+    EXPECT_NE(o.out.find(std::string("type: ") + search), std::string::npos) << search << ": " << o.out;
+    const std::string csv = slurp(dir_ / out / "pendulum_probes.csv");
+    const auto row = csv.find('\n');
+    ASSERT_NE(row, std::string::npos) << csv;
+    double t = 0, x = 1, y = 1, z = 0;
+    ASSERT_EQ(std::sscanf(csv.c_str() + row + 1, "%lf,%lf,%lf,%lf", &t, &x, &y, &z), 4) << csv;
+    EXPECT_NEAR(x, 0.0, 1e-8) << search;
+    EXPECT_NEAR(z, -1.0, 1e-8) << search;
+  }
+}
+
 }  // namespace
