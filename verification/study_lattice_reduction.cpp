@@ -1,9 +1,11 @@
 // Reduction accuracy of the super truss (thesis 8.2): the same lattice as the unreduced model
 // (every member a Timoshenko beam, rigid end sections) and as super truss elements, compared on
 // static tip response to each load (8.2.3's equivalent stiffness), the equivalent mass test
-// (free-free, equal end loads), the lowest natural frequencies with mode shapes paired by MAC on
-// the lattice nodes' motion, dynamic tip response under self-weight, end torque and angle drive
-// (8.2.1, 8.2.2), member axial forces near the root, and the cost of each model.
+// (free-free: twice the kinetic energy of each unit rigid-body velocity, v^T M v / |v|^2, which is
+// the mass that 8.2.3's equal end forces or torques accelerate; docs/lattice.md), the lowest
+// natural frequencies with mode shapes paired by MAC on the lattice nodes' motion, dynamic tip
+// response under self-weight, end torque and angle drive (8.2.1, 8.2.2), member axial forces near
+// the root, and the cost of each model.
 #include "verification/study.hpp"
 
 #include "elements/super_truss.hpp"
