@@ -37,6 +37,22 @@ KeyOverride number_override(const LinearSetting& s, double value) {
   return o;
 }
 
+// The table columns a set value fills: a number its key, a list of numbers key[0], key[1], ...,
+// anything else its key with NaN.
+std::vector<std::pair<std::string, double>> value_columns(const std::string& key, const YAML::Node& value) {
+  double v = 0;
+  if (value.IsScalar() && YAML::convert<double>::decode(value, v)) return {{key, v}};
+  if (value.IsSequence() && value.size() > 0) {
+    std::vector<std::pair<std::string, double>> out;
+    for (std::size_t i = 0; i < value.size(); ++i) {
+      if (!value[i].IsScalar() || !YAML::convert<double>::decode(value[i], v)) return {{key, std::numeric_limits<double>::quiet_NaN()}};
+      out.emplace_back(key + "[" + std::to_string(i) + "]", v);
+    }
+    return out;
+  }
+  return {{key, std::numeric_limits<double>::quiet_NaN()}};
+}
+
 std::vector<double> read_values(const InputNode& n) {
   if (n.is_sequence()) {
     auto v = n.as_doubles();
@@ -207,19 +223,19 @@ BatchSpec read_batch(const std::string& path) {
       if (!labels.insert(bc.label).second) n.fail("a second case named '" + bc.label + "'");
       for (const auto& [key, value] : n["set"].entries()) {
         bc.overrides.push_back(make_override(key, value.yaml(), value));
-        if (std::find(spec.columns.begin(), spec.columns.end(), key) == spec.columns.end()) spec.columns.push_back(key);
+        for (const auto& [column, v] : value_columns(key, value.yaml()))
+          if (std::find(spec.columns.begin(), spec.columns.end(), column) == spec.columns.end()) spec.columns.push_back(column);
       }
       spec.cases.push_back(std::move(bc));
     }
     if (spec.cases.empty()) cases.fail("expected at least one case");
-    // Numeric set values become columns (NaN where a case leaves the key alone or sets a text).
+    // Numeric set values become columns, a vector one column per component (NaN where a case
+    // leaves the key alone or sets a text or a map).
     for (BatchCase& bc : spec.cases) {
       bc.values.assign(spec.columns.size(), std::numeric_limits<double>::quiet_NaN());
-      for (const KeyOverride& o : bc.overrides) {
-        const auto k = std::find(spec.columns.begin(), spec.columns.end(), o.path) - spec.columns.begin();
-        double v = 0;
-        if (o.value.IsScalar() && YAML::convert<double>::decode(o.value, v)) bc.values[k] = v;
-      }
+      for (const KeyOverride& o : bc.overrides)
+        for (const auto& [column, v] : value_columns(o.path, o.value))
+          bc.values[std::find(spec.columns.begin(), spec.columns.end(), column) - spec.columns.begin()] = v;
     }
     spec.chains = static_cast<int>(spec.cases.size());
   }

@@ -66,7 +66,7 @@ struct BatchSpec {
   bool dynamics = false;   ///< analysis: run (statics if the model asks, then dynamics) or static
   bool warm_start = true;  ///< static grids: chains along the last parameter
   std::vector<BatchParameter> parameters;  ///< grid (empty for a case list)
-  std::vector<std::string> columns;        ///< parameter names (grid) or set paths (case list)
+  std::vector<std::string> columns;        ///< parameter names (grid) or set paths (case list; path[i] per vector component)
   int target_parameter = -1;               ///< index into parameters, or -1
   std::vector<BatchMeasure> measures;
   std::string output_directory;  ///< relative to the working directory, as model outputs

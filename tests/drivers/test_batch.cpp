@@ -124,20 +124,29 @@ cases:
   - {name: light, set: {loads.load_A.force: [0, 0, -5000]}}
   - {name: broken, set: {materials.steel.youngs_modulus: -1}}
   - {name: heavy, set: {loads.load_A.force: [0, 0, -20000]}}
+  - {name: stalls, set: {loads.load_A.force: [0, 0, -5000], solver.static: {max_iterations: 1, max_cuts: 0}}}
 measures:
   - {name: node_a, position_of: bar1.2}
 output: {directory: list}
 )");
   const Outcome o = run("batch list.yaml");
   EXPECT_EQ(o.code, 1) << o.out << o.err;  // a failed case makes the batch's exit code 1
-  EXPECT_NE(o.out.find("3 cases, 2 ok, 1 failed"), std::string::npos) << o.out;
+  EXPECT_NE(o.out.find("4 cases, 2 ok, 2 failed"), std::string::npos) << o.out;
   EXPECT_NE(o.err.find("broken"), std::string::npos) << o.err;
   const auto rows = read_csv(dir_ / "list" / "list.csv");
-  ASSERT_EQ(rows.size(), 3u);
+  ASSERT_EQ(rows.size(), 4u);
   EXPECT_EQ(rows[0].at("status"), "ok");
   EXPECT_EQ(rows[1].at("status"), "failed");
   EXPECT_NE(rows[1].at("error").find("youngs_modulus"), std::string::npos) << rows[1].at("error");
   EXPECT_EQ(rows[2].at("status"), "ok");
+  // A solver failure (Newton stopped after one iteration) is recorded the same way.
+  EXPECT_EQ(rows[3].at("status"), "failed");
+  EXPECT_NE(rows[3].at("error").find("static equilibrium failed"), std::string::npos) << rows[3].at("error");
+  EXPECT_NE(rows[3].at("error").find("DIVERGED_MAX_IT"), std::string::npos) << rows[3].at("error");
+  // A vector value fills one column per component.
+  EXPECT_EQ(std::stod(rows[0].at("loads.load_A.force[2]")), -5000.0);
+  EXPECT_EQ(std::stod(rows[2].at("loads.load_A.force[2]")), -20000.0);
+  EXPECT_EQ(std::stod(rows[2].at("loads.load_A.force[0]")), 0.0);
   // Four times the load, four times the (linear) deflection of node A below its unloaded height 3.
   const double d_light = 3.0 - std::stod(rows[0].at("node_a_z"));
   const double d_heavy = 3.0 - std::stod(rows[2].at("node_a_z"));
