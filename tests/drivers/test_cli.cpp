@@ -297,4 +297,18 @@ TEST_F(Cli, StaticLineSearchesAreOptions) {
   }
 }
 
+TEST_F(Cli, PetscOptionsReachTheSolvers) {
+  write("pendulum.yaml", kPendulum);
+  // The integrator, the direct solver chosen by option, and PETSc's performance log.
+  const Outcome o = run("run pendulum.yaml --output out -ts_view -pc_factor_mat_solver_type klu -log_view -options_left 0");
+  ASSERT_EQ(o.code, 0) << o.out << o.err;
+  EXPECT_NE(o.out.find("type: alpha2"), std::string::npos) << o.out;
+  EXPECT_NE(o.out.find("klu"), std::string::npos) << o.out;
+  EXPECT_NE(o.out.find("Performance Summary"), std::string::npos) << o.out;
+  // An option nobody reads is reported by PETSc (-options_left), not silently dropped.
+  const Outcome left = run("run pendulum.yaml --output out2 -ts_no_such_option 3 -options_left");
+  EXPECT_EQ(left.code, 0) << left.err;
+  EXPECT_NE((left.out + left.err).find("ts_no_such_option"), std::string::npos) << left.out << left.err;
+}
+
 }  // namespace
