@@ -129,4 +129,48 @@ TEST(Control, PipelineOnOneAndTwoRanks) {
   fs::remove_all(dir);
 }
 
+// Bad control files stop before any computation: one line with file:line and the key, exit
+// code 2, no output folder.
+TEST(Control, BadControlFilesNameFileLineAndKey) {
+  const fs::path dir = fs::temp_directory_path() / ("latticedyn_control_bad_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string good = slurp(CONTROL_FILE);
+  const std::string mapping = (fs::path(CONTROL_FILE).parent_path() / "mapping_coarse.yaml").string();
+  struct Bad {
+    const char* from;
+    const char* to;
+    const char* key;
+  };
+  const Bad cases[] = {
+      {"mapping: mapping_coarse.yaml", "mapping: nowhere.yaml", "mapping"},
+      {"drives: [luffing, hoisting]", "drives: [luffing]", "map.drives"},
+      {"drives: [luffing, hoisting]", "drives: [luffing, slewing]", "map.drives[1]"},
+      {"end_point: load", "end_point: hook", "map.end_point"},
+      {"orders: [2, 2]", "orders: [2, 6]", "map.surface.orders[1]"},
+      {"start: [-10, 0, 0, 0]", "start: [-10, 0, 0]", "trajectory.start"},
+      {"start: [-10, 0, 0, 0]", "start: [-60, 0, 0, 0]", "trajectory.start"},
+      {"R: [1, 1]", "R: [1, 0]", "trajectory.R"},
+      {"steps: 400", "steps: 0", "trajectory.steps"},
+      {"horizon: 0", "horizon: -3", "trajectory.horizon"},
+      {"samples: 20", "samples: 1", "control_table.samples"},
+  };
+  for (const Bad& b : cases) {
+    std::string text = good;
+    const auto at = text.find(b.from);
+    ASSERT_NE(at, std::string::npos) << b.from;
+    text.replace(at, std::string(b.from).size(), b.to);
+    // The mapping batch stays where it is; only the control file moves.
+    const auto m = text.find("mapping: mapping_coarse.yaml");
+    if (m != std::string::npos) text.replace(m, std::string("mapping: mapping_coarse.yaml").size(), "mapping: " + mapping);
+    std::ofstream(dir / "bad.yaml") << text;
+    const Outcome o = latticedyn::testing::run_in(dir, LATTICEDYN_EXE, "control bad.yaml --output out", "", 120);
+    EXPECT_EQ(o.code, 2) << b.key << ": " << o.out << o.err;
+    EXPECT_EQ(o.err.rfind("latticedyn: error: bad.yaml:", 0), 0u) << b.key << ": " << o.err;
+    EXPECT_NE(o.err.find(std::string(" ") + b.key + ":"), std::string::npos) << b.key << ": " << o.err;
+    EXPECT_FALSE(fs::exists(dir / "out")) << b.key;
+  }
+  fs::remove_all(dir);
+}
+
 }  // namespace
