@@ -176,4 +176,41 @@ void DofMap::count_nonzeros(std::vector<int>& diagonal, std::vector<int>& off_di
   }
 }
 
+namespace {
+
+// Calls f(global index, model-order index, count) for every free block and constraint.
+template <class F>
+void for_each_range(const Model& model, const std::vector<int>& block_dof, const std::vector<int>& multiplier_dof, F f) {
+  int next = 0;
+  for (std::size_t b = 0; b < model.blocks.size(); ++b)
+    if (!model.blocks[b].fixed) {
+      f(block_dof[b], next, model.blocks[b].size());
+      next += model.blocks[b].size();
+    }
+  for (std::size_t c = 0; c < model.constraints.size(); ++c) {
+    f(multiplier_dof[c], next, model.constraints[c].rows());
+    next += model.constraints[c].rows();
+  }
+}
+
+}  // namespace
+
+std::vector<double> DofMap::to_model_order(std::span<const double> global) const {
+  if (static_cast<int>(global.size()) != global_size_) throw std::invalid_argument("to_model_order: wrong vector size");
+  std::vector<double> out(global.size());
+  for_each_range(model_, block_dof_, multiplier_dof_, [&](int g, int m, int n) {
+    std::copy(global.begin() + g, global.begin() + g + n, out.begin() + m);
+  });
+  return out;
+}
+
+std::vector<double> DofMap::from_model_order(std::span<const double> ordered) const {
+  if (static_cast<int>(ordered.size()) != global_size_) throw std::invalid_argument("from_model_order: wrong vector size");
+  std::vector<double> out(ordered.size());
+  for_each_range(model_, block_dof_, multiplier_dof_, [&](int g, int m, int n) {
+    std::copy(ordered.begin() + m, ordered.begin() + m + n, out.begin() + g);
+  });
+  return out;
+}
+
 }  // namespace latticedyn

@@ -4,6 +4,7 @@
 
 #include "assembly/model.hpp"
 
+#include <span>
 #include <vector>
 
 namespace latticedyn {
@@ -29,6 +30,12 @@ class DofMap {
   /// Global index of a constraint's first multiplier.
   int multiplier_dof(int constraint) const { return multiplier_dof_[constraint]; }
   int num_multipliers() const { return num_multipliers_; }
+
+  /// A full vector from global numbering to model order and back. Model order (free blocks in
+  /// the model's order, then multipliers in constraint order) is the numbering of one rank: a
+  /// state recorded in it means the same on any number of ranks.
+  std::vector<double> to_model_order(std::span<const double> global) const;
+  std::vector<double> from_model_order(std::span<const double> ordered) const;
 
   const std::vector<int>& local_elements() const { return local_elements_; }
   const std::vector<int>& local_constraints() const { return local_constraints_; }

@@ -21,6 +21,8 @@ class ModelState {
   const Model& model() const { return model_; }
   const BlockState& block(int b) const { return blocks_[b]; }
   std::span<const double> coordinates() const { return u_; }
+  /// The coordinates in model order (DofMap::to_model_order): the same on any number of ranks.
+  std::vector<double> coordinates_in_model_order() const { return dofs_.to_model_order(u_); }
 
   std::vector<SlotState<double>> element_slots(int element) const;
   ElementContext context() const;

@@ -75,7 +75,7 @@ Evaluation CaseSolver::statics(const std::vector<KeyOverride>& overrides, const 
   const bool warm_start = static_cast<PetscInt>(warm.size()) == n;
   SimulationOutcome outcome;
   if (warm_start) {
-    set_full_state(U, warm);
+    set_full_state(U, sa.dofs().from_model_order(warm));
     sim->statics.warm_start = true;  // already loaded: one Newton solve from the neighbour
     PetscCallAbort(comm_, simulate(*sim, sa, U, V, true, false, nullptr, &outcome));
     ev.newton += outcome.statics.newton_iterations;
@@ -144,7 +144,8 @@ void CaseSolver::finish(SystemAssembler& sa, double t, Vec U, Vec V, Evaluation*
   const PetscScalar* a = nullptr;
   PetscCallAbort(comm_, VecGetSize(all, &n));
   PetscCallAbort(comm_, VecGetArrayRead(all, &a));
-  ev->state.assign(a, a + n);
+  // In model order: a chain's states and the batch log mean the same for any group size.
+  ev->state = sa.dofs().to_model_order(std::span<const double>(a, static_cast<std::size_t>(n)));
   PetscCallAbort(comm_, VecRestoreArrayRead(all, &a));
   PetscCallAbort(comm_, VecScatterDestroy(&to_all));
   PetscCallAbort(comm_, VecDestroy(&all));

@@ -163,7 +163,8 @@ void write_start_state(const fs::path& model_file, const std::vector<double>& st
   if (state.size() != static_cast<std::size_t>(sa.dofs().global_size()))
     throw std::runtime_error("the mapped states do not fit the verification model");
   ModelState st(sim.model, sa.dofs());
-  st.set(sim.run_dynamics ? sim.dynamics.t_start : sim.statics.time, state, {}, {}, Parametrization::rotation_vector_rates);
+  st.set(sim.run_dynamics ? sim.dynamics.t_start : sim.statics.time, sa.dofs().from_model_order(state), {}, {},
+         Parametrization::rotation_vector_rates);
   ResultWriterOptions wo;
   wo.directory = dir;
   wo.base_name = name;

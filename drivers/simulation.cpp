@@ -10,7 +10,7 @@ namespace latticedyn {
 PetscErrorCode initial_state(const Simulation& sim, SystemAssembler& sa, Vec U, Vec V) {
   PetscFunctionBeginUser;
   PetscCall(sa.initial_state(U, V));
-  if (!sim.start_coordinates.empty()) set_full_state(U, sim.start_coordinates);
+  if (!sim.start_coordinates.empty()) set_full_state(U, sa.dofs().from_model_order(sim.start_coordinates));
   PetscFunctionReturn(0);
 }
 

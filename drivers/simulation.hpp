@@ -20,7 +20,8 @@ struct SimulationOutcome {
 /// coordinates replaced by the recorded ones when the model names a start_state. Collective.
 PetscErrorCode initial_state(const Simulation& sim, SystemAssembler& sa, Vec U, Vec V);
 
-/// Sets a distributed vector from its full global-numbering copy (each rank takes its range).
+/// Sets a distributed vector from its full copy in global numbering (each rank takes its range);
+/// a vector in model order goes through DofMap::from_model_order first.
 void set_full_state(Vec U, const std::vector<double>& full);
 
 /// U, V: the initial state (SystemAssembler::initial_state) in, the final state out (rotation-

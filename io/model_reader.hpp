@@ -28,7 +28,8 @@ struct Simulation {
   DynamicSettings dynamics;
   OutputSettings output;
   std::string petsc_options;  ///< inserted into the options database before the command line
-  /// A recorded state to start from (start_state), in global numbering; empty: the model's own.
+  /// A recorded state to start from (start_state), in model order (DofMap::to_model_order);
+  /// empty: the model's own.
   std::vector<double> start_coordinates;
 };
 

@@ -9,7 +9,7 @@
 namespace latticedyn {
 
 struct RecordedState {
-  std::vector<double> coordinates;  ///< global numbering, as the solvers' state vector U
+  std::vector<double> coordinates;  ///< in model order (DofMap::to_model_order), any rank count
   double time = 0.0;                ///< the step's time
   long step = 0;                    ///< the step read (0-based)
   long steps = 0;                   ///< steps in the file

@@ -304,12 +304,15 @@ void ResultWriter::Impl::create_series() {
   });
 }
 
-// The solvers' whole coordinate vector, so a later model can start from any recorded step
-// (start_state; io/recorded_state.hpp) without rebuilding it from blocks and joints.
+// The solvers' whole coordinate vector in model order (the same on any number of ranks), so a
+// later model can start from any recorded step (start_state; io/recorded_state.hpp).
 void ResultWriter::Impl::create_state(hsize_t size) {
   const Hid g = io::create_group(file.get(), "state", ctx);
   add(g.get(), "coordinates", {size}, "global coordinate vector (m, rad, model units, multipliers)",
-      [](const ModelState& s, double* out) { std::copy(s.coordinates().begin(), s.coordinates().end(), out); });
+      [](const ModelState& s, double* out) {
+        const std::vector<double> q = s.coordinates_in_model_order();
+        std::copy(q.begin(), q.end(), out);
+      });
 }
 
 void ResultWriter::Impl::create_viz() {

@@ -8,6 +8,7 @@
 
 #include <sys/wait.h>
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -309,6 +310,74 @@ TEST_F(Cli, PetscOptionsReachTheSolvers) {
   const Outcome left = run("run pendulum.yaml --output out2 -ts_no_such_option 3 -options_left");
   EXPECT_EQ(left.code, 0) << left.err;
   EXPECT_NE((left.out + left.err).find("ts_no_such_option"), std::string::npos) << left.out << left.err;
+}
+
+// Four links in a chain: enough blocks for METIS to split them over two ranks, so the global
+// numbering differs between 1 and 2 ranks.
+const char* kChain = R"(title: chain
+gravity: [0, 0, -9.81]
+ground:
+  joints: [{name: pivot}]
+bodies:
+  - {name: a, type: rigid_body, mass: 1, centroid: [0.5, 0, 0], inertia: [0.01, 0.1, 0.1], rotation_deg: [0, 30, 0],
+     joints: [{name: "1", position: [0, 0, 0]}, {name: "2", position: [1, 0, 0]}]}
+  - {name: b, type: rigid_body, mass: 1, centroid: [0.5, 0, 0], inertia: [0.01, 0.1, 0.1], position: [0.8660254037844387, 0, -0.5],
+     rotation_deg: [0, 30, 0], joints: [{name: "1", position: [0, 0, 0]}, {name: "2", position: [1, 0, 0]}]}
+  - {name: c, type: rigid_body, mass: 1, centroid: [0.5, 0, 0], inertia: [0.01, 0.1, 0.1], position: [1.7320508075688772, 0, -1],
+     rotation_deg: [0, 30, 0], joints: [{name: "1", position: [0, 0, 0]}, {name: "2", position: [1, 0, 0]}]}
+  - {name: d, type: rigid_body, mass: 1, centroid: [0.5, 0, 0], inertia: [0.01, 0.1, 0.1], position: [2.598076211353316, 0, -1.5],
+     rotation_deg: [0, 30, 0], joints: [{name: "1", position: [0, 0, 0]}, {name: "2", position: [1, 0, 0]}]}
+constraints:
+  - {type: revolute, axis: y, joints: [ground.pivot, a.1]}
+  - {type: revolute, axis: y, joints: [a.2, b.1]}
+  - {type: revolute, axis: y, joints: [b.2, c.1]}
+  - {type: revolute, axis: y, joints: [c.2, d.1]}
+output:
+  probes: [d.2]
+)";
+
+int newton_iterations(const std::string& out) {
+  int increments = -1, iterations = -1;
+  const auto at = out.find("static equilibrium found: ");
+  if (at == std::string::npos ||
+      std::sscanf(out.c_str() + at, "static equilibrium found: %d load increment(s), %d Newton", &increments,
+                  &iterations) != 2)
+    return -1;
+  return iterations;
+}
+
+TEST_F(Cli, RecordedStatesMeanTheSameOnAnyNumberOfRanks) {
+  write("chain.yaml", kChain);
+  const std::string two = latticedyn::testing::mpiexec(MPIEXEC, 2);
+  ASSERT_EQ(run("static chain.yaml --output rec1").code, 0);
+  const Outcome o2 = run("static chain.yaml --output rec2", two);
+  ASSERT_EQ(o2.code, 0) << o2.out << o2.err;
+  // A state recorded on 2 ranks starts 1 rank at its equilibrium, and one recorded on 1 rank
+  // starts 2 ranks there: no Newton iteration beyond a polish.
+  write("from2.yaml", "base: chain.yaml\nstart_state: {file: rec2/chain.h5}\n");
+  write("from1.yaml", "base: chain.yaml\nstart_state: {file: rec1/chain.h5}\n");
+  const Outcome a = run("static from2.yaml --output a");
+  ASSERT_EQ(a.code, 0) << a.out << a.err;
+  EXPECT_LE(newton_iterations(a.out), 1) << a.out;
+  EXPECT_GE(newton_iterations(a.out), 0) << a.out;
+  const Outcome b = run("static from1.yaml --output b", two);
+  ASSERT_EQ(b.code, 0) << b.out << b.err;
+  EXPECT_LE(newton_iterations(b.out), 1) << b.out;
+  EXPECT_GE(newton_iterations(b.out), 0) << b.out;
+  // Both start where the 1-rank solve ended (Newton finds the equilibrium nearest the start).
+  auto last_joint = [&](const char* f) {
+    const std::string csv = slurp(dir_ / f);
+    const auto row = csv.find('\n');
+    double t = 0, x = NAN, y = NAN, z = NAN;
+    if (row == std::string::npos || std::sscanf(csv.c_str() + row + 1, "%lf,%lf,%lf,%lf", &t, &x, &y, &z) != 4)
+      ADD_FAILURE() << f << ": " << csv;
+    return std::array<double, 3>{x, y, z};
+  };
+  const auto ref = last_joint("rec1/chain_probes.csv");
+  for (const char* f : {"rec2/chain_probes.csv", "a/from2_probes.csv", "b/from1_probes.csv"}) {
+    const auto p = last_joint(f);
+    for (int i = 0; i < 3; ++i) EXPECT_NEAR(p[i], ref[i], 1e-8) << f << " component " << i;
+  }
 }
 
 }  // namespace

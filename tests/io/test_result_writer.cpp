@@ -473,7 +473,7 @@ TEST(ResultWriter, RecordsTheCoordinatesAStartStateReadsBack) {
   for (long step : {0L, 1L, -1L}) {
     const RecordedState r = read_recorded_state(writer.h5_path(), step);
     const std::size_t k = step < 0 ? 2 : static_cast<std::size_t>(step);
-    const auto expected = run.states[k].coordinates();
+    const auto expected = run.states[k].coordinates_in_model_order();
     EXPECT_EQ(r.coordinates, std::vector<double>(expected.begin(), expected.end())) << step;
     EXPECT_EQ(r.time, run.states[k].time());
     EXPECT_EQ(r.steps, 3);
