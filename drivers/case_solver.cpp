@@ -75,7 +75,7 @@ Evaluation CaseSolver::statics(const std::vector<KeyOverride>& overrides, const 
   const bool warm_start = static_cast<PetscInt>(warm.size()) == n;
   SimulationOutcome outcome;
   if (warm_start) {
-    set_full_state(U, sa.dofs().from_model_order(warm));
+    set_state_in_model_order(sa.dofs(), U, warm);
     sim->statics.warm_start = true;  // already loaded: one Newton solve from the neighbour
     PetscCallAbort(comm_, simulate(*sim, sa, U, V, true, false, nullptr, &outcome));
     ev.newton += outcome.statics.newton_iterations;

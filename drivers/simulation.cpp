@@ -10,11 +10,12 @@ namespace latticedyn {
 PetscErrorCode initial_state(const Simulation& sim, SystemAssembler& sa, Vec U, Vec V) {
   PetscFunctionBeginUser;
   PetscCall(sa.initial_state(U, V));
-  if (!sim.start_coordinates.empty()) set_full_state(U, sa.dofs().from_model_order(sim.start_coordinates));
+  if (!sim.start_coordinates.empty()) set_state_in_model_order(sa.dofs(), U, sim.start_coordinates);
   PetscFunctionReturn(0);
 }
 
-void set_full_state(Vec U, const std::vector<double>& full) {
+void set_state_in_model_order(const DofMap& dofs, Vec U, const std::vector<double>& ordered) {
+  const std::vector<double> full = dofs.from_model_order(ordered);
   MPI_Comm comm = PetscObjectComm(reinterpret_cast<PetscObject>(U));
   PetscInt lo = 0, hi = 0;
   PetscCallAbort(comm, VecGetOwnershipRange(U, &lo, &hi));

@@ -20,9 +20,9 @@ struct SimulationOutcome {
 /// coordinates replaced by the recorded ones when the model names a start_state. Collective.
 PetscErrorCode initial_state(const Simulation& sim, SystemAssembler& sa, Vec U, Vec V);
 
-/// Sets a distributed vector from its full copy in global numbering (each rank takes its range);
-/// a vector in model order goes through DofMap::from_model_order first.
-void set_full_state(Vec U, const std::vector<double>& full);
+/// Sets a distributed vector from a full copy in model order (DofMap::to_model_order), as recorded
+/// states and batch chains keep it; each rank takes its range.
+void set_state_in_model_order(const DofMap& dofs, Vec U, const std::vector<double>& ordered);
 
 /// U, V: the initial state (SystemAssembler::initial_state) in, the final state out (rotation-
 /// vector rates). With `statics` the equilibrium replaces U and the rates are zeroed; with

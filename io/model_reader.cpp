@@ -173,8 +173,10 @@ void read_start_state(const InputNode& n, Simulation& sim) {
   RecordedState state;
   try {
     state = read_recorded_state(path, step);
+  } catch (const RecordedStepOutOfRange& e) {
+    (n.has("step") ? n["step"] : file).fail(e.what());
   } catch (const std::exception& e) {
-    (n.has("step") && std::string(e.what()).find("out of range") != std::string::npos ? n["step"] : file).fail(e.what());
+    file.fail(e.what());
   }
   const auto expected = static_cast<std::size_t>(sim.model.num_free_dofs() + sim.model.num_multipliers());
   if (state.coordinates.size() != expected)

@@ -3,6 +3,7 @@
 
 #include "io/hdf5_file.hpp"
 
+#include <array>
 #include <stdexcept>
 
 namespace latticedyn {
@@ -24,18 +25,28 @@ struct Reading {
   }
 };
 
-// Row `row` of a float64 dataset of shape (T, n) or (T).
-std::vector<double> read_row(hid_t ds, hsize_t row, const Reading& ctx, hsize_t* rows) {
-  const io::Hid space = ctx.own(H5Dget_space(ds), H5Sclose, "read a dataspace");
-  const int rank = H5Sget_simple_extent_ndims(space.get());
+// Shape of a time series' dataspace, (T, n) or (T), as {T, n}.
+std::array<hsize_t, 2> series_shape(hid_t space, const Reading& ctx) {
+  const int rank = H5Sget_simple_extent_ndims(space);
   if (rank < 1 || rank > 2) ctx.fail("expected a time series of rows");
-  hsize_t dims[2] = {0, 1};
-  H5Sget_simple_extent_dims(space.get(), dims, nullptr);
-  *rows = dims[0];
-  if (row >= dims[0]) return {};
+  std::array<hsize_t, 2> dims = {0, 1};
+  H5Sget_simple_extent_dims(space, dims.data(), nullptr);
+  return dims;
+}
+
+hsize_t steps_of(hid_t ds, const Reading& ctx) {
+  const io::Hid space = ctx.own(H5Dget_space(ds), H5Sclose, "read a dataspace");
+  return series_shape(space.get(), ctx)[0];
+}
+
+// Row `row` (< T) of a float64 time series.
+std::vector<double> read_row(hid_t ds, hsize_t row, const Reading& ctx) {
+  const io::Hid space = ctx.own(H5Dget_space(ds), H5Sclose, "read a dataspace");
+  const auto dims = series_shape(space.get(), ctx);
   const hsize_t start[2] = {row, 0}, count[2] = {1, dims[1]};
   ctx.check(H5Sselect_hyperslab(space.get(), H5S_SELECT_SET, start, nullptr, count, nullptr), "select a step");
-  const io::Hid mem = ctx.own(H5Screate_simple(rank, count, nullptr), H5Sclose, "create a memory space");
+  const io::Hid mem = ctx.own(H5Screate_simple(H5Sget_simple_extent_ndims(space.get()), count, nullptr), H5Sclose,
+                              "create a memory space");
   std::vector<double> out(static_cast<std::size_t>(dims[1]));
   ctx.check(H5Dread(ds, H5T_NATIVE_DOUBLE, mem.get(), space.get(), H5P_DEFAULT, out.data()), "read a step");
   return out;
@@ -54,19 +65,17 @@ RecordedState read_recorded_state(const std::filesystem::path& file, long step) 
     ctx.fail("no /state/coordinates: not a latticedyn results file, or one written before states were recorded");
   const io::Hid coords = ctx.own(H5Dopen2(f.get(), "state/coordinates", H5P_DEFAULT), H5Dclose, "open /state/coordinates");
   const io::Hid times = ctx.own(H5Dopen2(f.get(), "time", H5P_DEFAULT), H5Dclose, "open /time");
-  hsize_t rows = 0, time_rows = 0;
-  read_row(coords.get(), 0, ctx, &rows);  // the number of steps
-  if (rows == 0) ctx.fail("the file holds no step");
-  const long n = static_cast<long>(rows);
+  const long n = static_cast<long>(steps_of(coords.get(), ctx));
+  if (n == 0) ctx.fail("the file holds no step");
+  if (static_cast<long>(steps_of(times.get(), ctx)) != n) ctx.fail("/time does not match /state/coordinates");
   const long k = step < 0 ? n + step : step;
   if (k < 0 || k >= n)
-    ctx.fail("step " + std::to_string(step) + " is out of range: the file holds " + std::to_string(n) + " steps (0.." +
-             std::to_string(n - 1) + ", or -1 for the last)");
+    throw RecordedStepOutOfRange("'" + file.string() + "': step " + std::to_string(step) +
+                                 " is out of range: the file holds " + std::to_string(n) + " steps (0.." +
+                                 std::to_string(n - 1) + ", or -1 for the last)");
   RecordedState s;
-  s.coordinates = read_row(coords.get(), static_cast<hsize_t>(k), ctx, &rows);
-  const std::vector<double> t = read_row(times.get(), static_cast<hsize_t>(k), ctx, &time_rows);
-  if (t.size() != 1) ctx.fail("/time does not match /state/coordinates");
-  s.time = t[0];
+  s.coordinates = read_row(coords.get(), static_cast<hsize_t>(k), ctx);
+  s.time = read_row(times.get(), static_cast<hsize_t>(k), ctx).at(0);
   s.step = k;
   s.steps = n;
   return s;

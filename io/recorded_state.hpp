@@ -3,6 +3,7 @@
 #pragma once
 
 #include <filesystem>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -15,9 +16,15 @@ struct RecordedState {
   long steps = 0;                   ///< steps in the file
 };
 
+/// A step that the file does not hold (the file itself is fine).
+struct RecordedStepOutOfRange : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
 /// The coordinates of output step `step` (negative: counted from the end, -1 = the last) of a
 /// latticedyn results file. Throws std::runtime_error naming the file and what is wrong (no such
-/// file, not a results file, a file written before states were recorded, step out of range).
+/// file, not a results file, a file written before states were recorded); RecordedStepOutOfRange
+/// for a step the file does not hold.
 RecordedState read_recorded_state(const std::filesystem::path& file, long step);
 
 }  // namespace latticedyn

@@ -308,7 +308,7 @@ void ResultWriter::Impl::create_series() {
 // later model can start from any recorded step (start_state; io/recorded_state.hpp).
 void ResultWriter::Impl::create_state(hsize_t size) {
   const Hid g = io::create_group(file.get(), "state", ctx);
-  add(g.get(), "coordinates", {size}, "global coordinate vector (m, rad, model units, multipliers)",
+  add(g.get(), "coordinates", {size}, "coordinate vector in model order (m, rad, model units, multipliers)",
       [](const ModelState& s, double* out) {
         const std::vector<double> q = s.coordinates_in_model_order();
         std::copy(q.begin(), q.end(), out);

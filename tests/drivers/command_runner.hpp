@@ -4,6 +4,9 @@
 
 #include <sys/wait.h>
 
+#include <array>
+#include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -35,6 +38,28 @@ inline Outcome run_in(const std::filesystem::path& dir, const std::string& exe, 
   o.out = slurp(dir / "out.txt");
   o.err = slurp(dir / "err.txt");
   return o;
+}
+
+/// Newton iterations of the "static equilibrium found: ..." summary line; -1 when there is none.
+inline int static_newton_iterations(const std::string& out) {
+  int increments = -1, iterations = -1;
+  const auto at = out.find("static equilibrium found: ");
+  if (at == std::string::npos ||
+      std::sscanf(out.c_str() + at, "static equilibrium found: %d load increment(s), %d Newton", &increments,
+                  &iterations) != 2)
+    return -1;
+  return iterations;
+}
+
+/// Position of the first probe in the first row of a probe CSV (time, x, y, z, ...); NaN if none.
+inline std::array<double, 3> first_probe_position(const std::filesystem::path& csv) {
+  const std::string text = slurp(csv);
+  const auto row = text.find('\n');
+  double t = 0;
+  std::array<double, 3> p = {NAN, NAN, NAN};
+  if (row == std::string::npos || std::sscanf(text.c_str() + row + 1, "%lf,%lf,%lf,%lf", &t, &p[0], &p[1], &p[2]) != 4)
+    return {NAN, NAN, NAN};
+  return p;
 }
 
 /// Two (or n) MPI ranks on any machine, also as root (CI): Open MPI refuses root without these.

@@ -233,22 +233,13 @@ TEST_F(Cli, StartsFromARecordedState) {
   const Outcome o = run("static again.yaml --output out2");
   ASSERT_EQ(o.code, 0) << o.out << o.err;
   // Already in equilibrium: no Newton iteration, or one that only polishes round-off.
-  int increments = -1, iterations = -1;
-  const auto at = o.out.find("static equilibrium found: ");
-  ASSERT_NE(at, std::string::npos) << o.out;
-  ASSERT_EQ(std::sscanf(o.out.c_str() + at, "static equilibrium found: %d load increment(s), %d Newton", &increments,
-                        &iterations), 2) << o.out;
+  const int iterations = latticedyn::testing::static_newton_iterations(o.out);
+  EXPECT_GE(iterations, 0) << o.out;
   EXPECT_LE(iterations, 1) << o.out;
   // The start is the recorded one: the hanging rod's tip straight below the pivot.
-  const std::string csv = slurp(dir_ / "out2/again_probes.csv");
-  std::istringstream lines(csv);
-  std::string header, row;
-  std::getline(lines, header);
-  ASSERT_TRUE(std::getline(lines, row)) << csv;
-  double t = 0, x = 1, y = 1, z = 0;
-  ASSERT_EQ(std::sscanf(row.c_str(), "%lf,%lf,%lf,%lf", &t, &x, &y, &z), 4) << row;
-  EXPECT_NEAR(x, 0.0, 1e-9);
-  EXPECT_NEAR(z, -1.0, 1e-9);
+  const auto tip = latticedyn::testing::first_probe_position(dir_ / "out2/again_probes.csv");
+  EXPECT_NEAR(tip[0], 0.0, 1e-9);
+  EXPECT_NEAR(tip[2], -1.0, 1e-9);
 }
 
 TEST_F(Cli, BadStartStateGivesFileLineKeyExitCodeTwoAndNoOutput) {
@@ -288,13 +279,9 @@ TEST_F(Cli, StaticLineSearchesAreOptions) {
                           " -snes_view -options_left 0");
     ASSERT_EQ(o.code, 0) << search << ": " << o.out << o.err;
     EXPECT_NE(o.out.find(std::string("type: ") + search), std::string::npos) << search << ": " << o.out;
-    const std::string csv = slurp(dir_ / out / "pendulum_probes.csv");
-    const auto row = csv.find('\n');
-    ASSERT_NE(row, std::string::npos) << csv;
-    double t = 0, x = 1, y = 1, z = 0;
-    ASSERT_EQ(std::sscanf(csv.c_str() + row + 1, "%lf,%lf,%lf,%lf", &t, &x, &y, &z), 4) << csv;
-    EXPECT_NEAR(x, 0.0, 1e-8) << search;
-    EXPECT_NEAR(z, -1.0, 1e-8) << search;
+    const auto tip = latticedyn::testing::first_probe_position(dir_ / out / "pendulum_probes.csv");
+    EXPECT_NEAR(tip[0], 0.0, 1e-8) << search;
+    EXPECT_NEAR(tip[2], -1.0, 1e-8) << search;
   }
 }
 
@@ -336,16 +323,6 @@ output:
   probes: [d.2]
 )";
 
-int newton_iterations(const std::string& out) {
-  int increments = -1, iterations = -1;
-  const auto at = out.find("static equilibrium found: ");
-  if (at == std::string::npos ||
-      std::sscanf(out.c_str() + at, "static equilibrium found: %d load increment(s), %d Newton", &increments,
-                  &iterations) != 2)
-    return -1;
-  return iterations;
-}
-
 TEST_F(Cli, RecordedStatesMeanTheSameOnAnyNumberOfRanks) {
   write("chain.yaml", kChain);
   const std::string two = latticedyn::testing::mpiexec(MPIEXEC, 2);
@@ -358,24 +335,16 @@ TEST_F(Cli, RecordedStatesMeanTheSameOnAnyNumberOfRanks) {
   write("from1.yaml", "base: chain.yaml\nstart_state: {file: rec1/chain.h5}\n");
   const Outcome a = run("static from2.yaml --output a");
   ASSERT_EQ(a.code, 0) << a.out << a.err;
-  EXPECT_LE(newton_iterations(a.out), 1) << a.out;
-  EXPECT_GE(newton_iterations(a.out), 0) << a.out;
+  EXPECT_LE(latticedyn::testing::static_newton_iterations(a.out), 1) << a.out;
+  EXPECT_GE(latticedyn::testing::static_newton_iterations(a.out), 0) << a.out;
   const Outcome b = run("static from1.yaml --output b", two);
   ASSERT_EQ(b.code, 0) << b.out << b.err;
-  EXPECT_LE(newton_iterations(b.out), 1) << b.out;
-  EXPECT_GE(newton_iterations(b.out), 0) << b.out;
+  EXPECT_LE(latticedyn::testing::static_newton_iterations(b.out), 1) << b.out;
+  EXPECT_GE(latticedyn::testing::static_newton_iterations(b.out), 0) << b.out;
   // Both start where the 1-rank solve ended (Newton finds the equilibrium nearest the start).
-  auto last_joint = [&](const char* f) {
-    const std::string csv = slurp(dir_ / f);
-    const auto row = csv.find('\n');
-    double t = 0, x = NAN, y = NAN, z = NAN;
-    if (row == std::string::npos || std::sscanf(csv.c_str() + row + 1, "%lf,%lf,%lf,%lf", &t, &x, &y, &z) != 4)
-      ADD_FAILURE() << f << ": " << csv;
-    return std::array<double, 3>{x, y, z};
-  };
-  const auto ref = last_joint("rec1/chain_probes.csv");
+  const auto ref = latticedyn::testing::first_probe_position(dir_ / "rec1/chain_probes.csv");
   for (const char* f : {"rec2/chain_probes.csv", "a/from2_probes.csv", "b/from1_probes.csv"}) {
-    const auto p = last_joint(f);
+    const auto p = latticedyn::testing::first_probe_position(dir_ / f);
     for (int i = 0; i < 3; ++i) EXPECT_NEAR(p[i], ref[i], 1e-8) << f << " component " << i;
   }
 }

@@ -105,11 +105,8 @@ TEST(Control, PipelineOnOneAndTwoRanks) {
   // its static solve has nothing left to do and finds the load where the verification run began.
   const Outcome alone = run("static one/control_drives.yaml --output alone", "");
   ASSERT_EQ(alone.code, 0) << alone.out << alone.err;
-  int increments = -1, iterations = -1;
-  const auto found = alone.out.find("static equilibrium found: ");
-  ASSERT_NE(found, std::string::npos) << alone.out;
-  ASSERT_EQ(std::sscanf(alone.out.c_str() + found, "static equilibrium found: %d load increment(s), %d Newton",
-                        &increments, &iterations), 2) << alone.out;
+  const int iterations = latticedyn::testing::static_newton_iterations(alone.out);
+  EXPECT_GE(iterations, 0) << alone.out;
   EXPECT_LE(iterations, 2) << alone.out;
   auto probe = read_columns(dir / "alone" / "control_drives_probes.csv");
   ASSERT_FALSE(probe.empty());
