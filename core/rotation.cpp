@@ -30,12 +30,41 @@ Vec3 rotation_vector(const Mat3& R) {
   return theta * n;
 }
 
+Mat3 tangent_inverse_transpose_derivative(const Vec3& phi, const Vec3& m) {
+  const double x = phi.squaredNorm();
+  double c3 = 0.0, dc3 = 0.0;  // c3(x) and dc3/dx
+  if (x < rotation_detail::kSeriesBelow) {
+    c3 = rotation_detail::poly(x, 1.0 / 12, 1.0 / 720, 1.0 / 30240, 1.0 / 1209600, 1.0 / 47900160);
+    dc3 = rotation_detail::poly(x, 1.0 / 720, 2.0 / 30240, 3.0 / 1209600, 4.0 / 47900160, 0.0);
+  } else {
+    // c3 = (1 - g)/t^2 with g = t (1 + cos t) / (2 sin t), t = |phi|.
+    const double t = std::sqrt(x), s = std::sin(t), c = std::cos(t);
+    const double g = t * (1 + c) / (2 * s);
+    const double dg = (1 + c) / (2 * s) - t * (1 + c) / (2 * s * s);
+    c3 = (1 - g) / x;
+    dc3 = (-dg / x - 2 * (1 - g) / (x * t)) / (2 * t);
+  }
+  const Vec3 pm = phi.cross(m), ppm = phi.cross(pm);
+  return 0.5 * skew<double>(m) + c3 * (phi * m.transpose() + phi.dot(m) * Mat3::Identity() - 2 * m * phi.transpose()) +
+         (2 * dc3) * ppm * phi.transpose();
+}
+
 Vec3 rescaled_rotation_vector(const Vec3& phi) {
   const double theta = phi.norm();
   if (theta <= std::numbers::pi) return phi;
   const double two_pi = 2.0 * std::numbers::pi;
   const double reduced = theta - two_pi * std::round(theta / two_pi);
   return phi * (reduced / theta);
+}
+
+void cardan_zyx_tangent_derivatives(const Vec3& angles, Mat3 dT[2], Mat3 ddT[3]) {
+  const double sf = std::sin(angles(0)), cf = std::cos(angles(0));
+  const double sp = std::sin(angles(1)), cp = std::cos(angles(1));
+  dT[0] << 0, 0, 0, 0, -sf, cf * cp, 0, -cf, -sf * cp;
+  dT[1] << 0, 0, -cp, 0, 0, -sf * sp, 0, 0, -cf * sp;
+  ddT[0] << 0, 0, 0, 0, -cf, -sf * cp, 0, sf, -cf * cp;
+  ddT[1] << 0, 0, 0, 0, 0, -cf * sp, 0, 0, sf * sp;
+  ddT[2] << 0, 0, sp, 0, 0, -sf * cp, 0, 0, -cf * cp;
 }
 
 Vec3 cardan_zyx_angles(const Mat3& R) {

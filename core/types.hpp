@@ -17,6 +17,13 @@ using Vec3 = Vec3T<double>;
 using Mat3 = Mat3T<double>;
 using Vec6 = Eigen::Matrix<double, 6, 1>;
 using Mat6 = Eigen::Matrix<double, 6, 6>;
+using Vec9 = Eigen::Matrix<double, 9, 1>;
+using Mat9 = Eigen::Matrix<double, 9, 9>;
+using Row9 = Eigen::Matrix<double, 1, 9>;
+using Vec12 = Eigen::Matrix<double, 12, 1>;
+using Row12 = Eigen::Matrix<double, 1, 12>;
+using Mat12 = Eigen::Matrix<double, 12, 12>;
+using Mat312 = Eigen::Matrix<double, 3, 12>;  ///< a 3-vector's derivative in the 12 DoFs of two frames
 using VecX = Eigen::VectorXd;
 using MatX = Eigen::MatrixXd;
 

@@ -1,5 +1,6 @@
-// Super truss element: precomputed lattice data, the elastic part by HyperDual<12> through the
-// kinematic map and the members' energies, the inertial part through AutoDiffElement.
+// Super truss element: members by the closed-form co-rotational kernel projected through the node
+// Jacobians (member chain rule), the lattice's translational mass as two coupled rigid bodies, the
+// rotary inertia of the nodes through the map's rotations.
 #include "elements/super_truss.hpp"
 
 #include "elements/energy_ad.hpp"
@@ -12,136 +13,329 @@
 namespace latticedyn {
 
 namespace {
-using TrussAD = EnergyAD<12>;  // r1 (0..2), rotation 1 (3..5), r2 (6..8), rotation 2 (9..11): the DoF order
+
+const TrussSectionSpec& validated(const TrussSectionSpec& spec) {
+  spec.validate();
+  return spec;
 }
 
-SuperTrussElement::SuperTrussElement(const TrussSectionSpec& spec, const TrussGeometry& g) : spec_(spec), geometry_(g) {
-  spec_.validate();
-  const int n1 = static_cast<int>(spec.end1.size());
-  const Vec3 end2_origin(spec.length, 0, 0);
-  for (const TrussNode& n : g.nodes) {
-    NodeData d;
-    if (n.kind == TrussNode::Kind::end1) d.end = 1, d.offset = n.position;
-    if (n.kind == TrussNode::Kind::end2) d.end = 2, d.offset = n.position - end2_origin;
-    if (n.kind == TrussNode::Kind::internal) d.main_beam = n.main_beam, d.xi = double(n.station) / spec.order;
-    nodes_.push_back(d);
-    node_frames_.push_back(n.frame);
+Row9 contract_row(const Row12& r) {  // the (d, delta_1, delta_2) part of a derivative in the DoFs
+  Row9 out;
+  out << r.segment<3>(6), r.segment<3>(3), r.segment<3>(9);
+  return out;
+}
+
+// Node frames' angular-velocity Jacobian of an end-section node.
+Mat312 end_rotation_jacobian(int end) {
+  Mat312 J = Mat312::Zero();
+  J.block<3, 3>(0, end == 1 ? 3 : 9) = Mat3::Identity();
+  return J;
+}
+
+}  // namespace
+
+/// Scratch of one evaluation: node poses and Jacobians, and the members' node loads.
+struct SuperTrussElement::Evaluation {
+  std::vector<Vec3> p;
+  std::vector<Mat3> R;
+  std::vector<Mat312> Jp, Jw;
+  std::vector<InternalRotation> rot;
+  std::vector<int> internal_of;  // node -> index in rot, or -1
+};
+
+/// What the member loop accumulates (one set per chunk of members): the force on each node
+/// (inertial axes), the moment on it (node axes), and the members' stiffness projected.
+struct SuperTrussElement::MemberLoads {
+  std::vector<Vec3> F, M;
+  Mat12 K;
+  void reset(int nodes) {
+    F.assign(nodes, Vec3::Zero());
+    M.assign(nodes, Vec3::Zero());
+    K.setZero();
   }
-  for (std::size_t m = 0; m < spec.main_beams.size(); ++m) {
-    MainBeamData mb;
-    mb.start = spec.main_beams[m][0];
-    mb.end = n1 + spec.main_beams[m][1];
-    const Vec3 d = g.nodes[mb.end].position - g.nodes[mb.start].position;
-    mb.direction = d.normalized();
-    mb.length = d.norm();
-    for (const TrussMember& member : g.members)
-      if (member.kind == TrussMemberKind::main && member.face == static_cast<int>(m)) mb.frame = member.frame0;
-    for (std::size_t n = 0; n < g.nodes.size(); ++n)
-      if (g.nodes[n].kind == TrussNode::Kind::internal && g.nodes[n].main_beam == static_cast<int>(m))
-        mb.internal.push_back(static_cast<int>(n));
-    main_beams_.push_back(mb);
-  }
-  node_rotary_.assign(nodes_.size(), Mat3::Zero());
-  node_weight_.assign(nodes_.size(), 0.0);
+};
+
+SuperTrussElement::SuperTrussElement(const TrussSectionSpec& spec, const TrussGeometry& g)
+    : spec_(validated(spec)), geometry_(g), map_(spec_, g) {
+  const int nn = map_.num_nodes();
+  lumped_.rotary.assign(nn, Mat3::Zero());
+  lumped_.weight.assign(nn, 0.0);
   std::map<std::pair<int, int>, double> pairs;
   for (const TrussMember& tm : g.members) {
     const SectionProperties& section = g.section(spec, tm.kind);
-    MemberData m;
+    Member m;
     m.a = tm.a;
     m.b = tm.b;
     m.offset_a = g.nodes[tm.a].frame.transpose() * tm.frame0;
     m.offset_b = g.nodes[tm.b].frame.transpose() * tm.frame0;
     m.beam = std::make_shared<TimoshenkoBeam>(BeamProperties{spec.material, section, tm.length, 0.0});
     const double rho = section.effective_density(spec.material);
-    m.mass = rho * section.area * tm.length;
-    m.rotary = 0.5 * rho * tm.length * Vec3(section.Iy + section.Iz, section.Iy, section.Iz);
-    pairs[{m.a, m.a}] += m.mass / 3;
-    pairs[{m.b, m.b}] += m.mass / 3;
-    pairs[{m.a, m.b}] += m.mass / 6;
-    pairs[{m.b, m.a}] += m.mass / 6;
-    node_rotary_[m.a] += m.offset_a * m.rotary.asDiagonal() * m.offset_a.transpose();
-    node_rotary_[m.b] += m.offset_b * m.rotary.asDiagonal() * m.offset_b.transpose();
-    node_weight_[m.a] += 0.5 * m.mass;
-    node_weight_[m.b] += 0.5 * m.mass;
+    const double mass = rho * section.area * tm.length;
+    const Vec3 rotary = 0.5 * rho * tm.length * Vec3(section.Iy + section.Iz, section.Iy, section.Iz);
+    pairs[{m.a, m.a}] += mass / 3;
+    pairs[{m.b, m.b}] += mass / 3;
+    pairs[{m.a, m.b}] += mass / 6;
+    pairs[{m.b, m.a}] += mass / 6;
+    lumped_.rotary[m.a] += m.offset_a * rotary.asDiagonal() * m.offset_a.transpose();
+    lumped_.rotary[m.b] += m.offset_b * rotary.asDiagonal() * m.offset_b.transpose();
+    lumped_.weight[m.a] += 0.5 * mass;
+    lumped_.weight[m.b] += 0.5 * mass;
     members_.push_back(m);
   }
-  for (const auto& [ab, mass] : pairs) mass_pairs_.push_back({ab.first, ab.second, mass});
+  for (const auto& [ab, mass] : pairs) lumped_.pairs.push_back({ab.first, ab.second, mass});
+  // The translational kinetic energy (1/2) sum m_ab pd_a . pd_b is bilinear in the points'
+  // coefficients z: the moment matrix Z = sum m_ab z_a z_b^T carries all of it, as the pairs
+  // (e_k, row k of Z).
+  Eigen::Matrix<double, 8, 8> Z = Eigen::Matrix<double, 8, 8>::Zero();
+  for (const LumpedMass::Pair& pr : lumped_.pairs)
+    Z += pr.m * map_.node(pr.a).point.coefficients() * map_.node(pr.b).point.coefficients().transpose();
+  for (int k = 0; k < 8; ++k) {
+    if (Z.row(k).isZero(0.0)) continue;
+    mass_points_.emplace_back(AffinePoint::from_coefficients(Eigen::Matrix<double, 8, 1>::Unit(k)),
+                              AffinePoint::from_coefficients(Z.row(k).transpose()));
+  }
+  for (int n = 0; n < nn; ++n) {
+    weight_point_ += map_.node(n).point * lumped_.weight[n];
+    if (map_.node(n).end != 0) end_rotary_[map_.node(n).end - 1] += lumped_.rotary[n];
+  }
+}
+
+void SuperTrussElement::add_members(const Evaluation& ev, int first, int last, MemberLoads& out, bool tangent) const {
+  Vec9 f;
+  Mat9 K9;
+  Eigen::Matrix<double, 9, 12> P;
+  for (int k = first; k < last; ++k) {
+    const Member& m = members_[k];
+    m.beam->elastic_force(ev.p[m.b] - ev.p[m.a], ev.R[m.a] * m.offset_a, ev.R[m.b] * m.offset_b, f,
+                          tangent ? &K9 : nullptr);
+    out.F[m.a] -= f.segment<3>(0);
+    out.F[m.b] += f.segment<3>(0);
+    out.M[m.a] += m.offset_a * f.segment<3>(3);
+    out.M[m.b] += m.offset_b * f.segment<3>(6);
+    if (!tangent) continue;
+    // The member's variables (d, delta_a, delta_b) in the element's: rows of P.
+    P.topRows<3>() = ev.Jp[m.b] - ev.Jp[m.a];
+    P.middleRows<3>(3) = m.offset_a.transpose() * ev.Jw[m.a];
+    P.bottomRows<3>() = m.offset_b.transpose() * ev.Jw[m.b];
+    out.K.noalias() += P.transpose() * (K9 * P);
+  }
+}
+
+void SuperTrussElement::add_translational_inertia(std::span<const SlotState<double>> s, const ElementContext& ctx,
+                                                  Vec12& r, ElementTangents* t) const {
+  const EndFrames f{s.data()};
+  for (const auto& [a, b] : mass_points_) {
+    const Vec3 acc = acceleration(b, f);
+    add_point_force(a, f, acc, r);
+    if (!t) continue;
+    const Mat312 Ja = jacobian(a, f);
+    t->M += Ja.transpose() * jacobian(b, f);
+    t->C += Ja.transpose() * acceleration_velocity_derivative(b, f);
+    t->K += Ja.transpose() * acceleration_position_derivative(b, f);
+    Mat12 Kg = Mat12::Zero();
+    add_point_force_geometric(a, f, acc, Kg);
+    t->K += Kg;
+  }
+  add_point_force(weight_point_, f, Vec3(-ctx.gravity), r);
+  if (t) {
+    Mat12 Kg = Mat12::Zero();
+    add_point_force_geometric(weight_point_, f, Vec3(-ctx.gravity), Kg);
+    t->K += Kg;
+  }
+}
+
+void SuperTrussElement::evaluate(std::span<const SlotState<double>> s, const ElementContext& ctx, Vec12& r,
+                                 ElementTangents* t) const {
+  const EndFrames f{s.data()};
+  const int nn = map_.num_nodes();
+  thread_local Evaluation ev;
+  ev.p.resize(nn);
+  ev.R.resize(nn);
+  ev.Jp.resize(nn);
+  ev.Jw.resize(nn);
+  ev.internal_of.assign(nn, -1);
+  internal_rotations(map_, s, ev.rot);
+  const std::vector<int>& internal = map_.internal_nodes();
+  for (std::size_t k = 0; k < internal.size(); ++k) ev.internal_of[internal[k]] = static_cast<int>(k);
+  for (int n = 0; n < nn; ++n) {
+    const SuperTrussMap::Node& nd = map_.node(n);
+    ev.p[n] = position(nd.point, f);
+    if (t) ev.Jp[n] = jacobian(nd.point, f);  // the residual projects node forces without it
+    if (nd.end != 0) {
+      ev.R[n] = s[nd.end == 1 ? 1 : 3].rot;
+      ev.Jw[n] = end_rotation_jacobian(nd.end);
+    } else {
+      const InternalRotation& o = ev.rot[ev.internal_of[n]];
+      ev.R[n] = o.A * o.C;
+      ev.Jw[n] = o.Jw;
+    }
+  }
+
+  // Members: independent of each other (thesis Figure 3-2), so chunks of them run as parallel
+  // tasks on the threads OpenMP gives a region here (one when the assembler already evaluates
+  // several elements in parallel), each into its own node loads and stiffness.
+  const bool tangent = t != nullptr;
+  const int threads = omp_in_parallel() ? 1 : omp_get_max_threads();
+  const int nm = num_members();
+  thread_local MemberLoads loads;
+  loads.reset(nn);
+  if (threads <= 1) {
+    add_members(ev, 0, nm, loads, tangent);
+  } else {
+    const int chunks = 2 * threads;
+    std::vector<MemberLoads> part(chunks);
+    const Evaluation& kin = ev;  // the calling thread's scratch, shared with the tasks
+#pragma omp parallel for num_threads(threads) schedule(static, 1)
+    for (int c = 0; c < chunks; ++c) {
+      part[c].reset(nn);
+      add_members(kin, c * nm / chunks, (c + 1) * nm / chunks, part[c], tangent);
+    }
+    for (const MemberLoads& l : part) {
+      for (int n = 0; n < nn; ++n) loads.F[n] += l.F[n], loads.M[n] += l.M[n];
+      loads.K += l.K;
+    }
+  }
+
+  r.setZero();
+  if (t) {
+    t->K = loads.K;
+    t->C.setZero();
+    t->M.setZero();
+  }
+  add_translational_inertia(s, ctx, r, t);
+  // Node forces through the positions' Jacobians, with the map's second derivatives.
+  Mat12 Kg = Mat12::Zero();
+  for (int n = 0; n < nn; ++n) {
+    add_point_force(map_.node(n).point, f, loads.F[n], r);
+    if (t) add_point_force_geometric(map_.node(n).point, f, loads.F[n], Kg);
+  }
+  // Rotary inertia of the end sections' nodes: rigid bodies.
+  for (int i = 0; i < 2; ++i) {
+    const Mat3& J = end_rotary_[i];
+    const Vec3 &w = s[2 * i + 1].vel, &dw = s[2 * i + 1].acc;
+    r.segment<3>(6 * i + 3) += J * dw + w.cross(J * w);
+    if (t) {
+      t->M.block<3, 3>(6 * i + 3, 6 * i + 3) += J;
+      t->C.block<3, 3>(6 * i + 3, 6 * i + 3) += skew<double>(w) * J - skew<double>(Vec3(J * w));
+    }
+  }
+  for (int n = 0; n < nn; ++n)
+    if (map_.node(n).end != 0) r.segment<3>(map_.node(n).end == 1 ? 3 : 9) += loads.M[n];
+
+  // Internal nodes: R_n = A C(y), omega_n = C^T wA + T y', wA = F^T w1, so
+  // omega_n' = C^T wA' + (C^T wA) x (T y') + T' y' + T y''; their moments M_n + tau_n act through
+  // Jw = C^T E1 + T Y.
+  std::vector<InternalRotationTangent> tan;
+  if (t) internal_rotation_tangents(map_, s, tan);
+  for (std::size_t k = 0; k < internal.size(); ++k) {
+    const int n = internal[k];
+    const InternalRotation& o = ev.rot[k];
+    const Mat3& F = map_.main_beams()[map_.node(n).main_beam].frame;
+    const Mat3& J = lumped_.rotary[n];
+    const Vec3 wA = F.transpose() * s[1].vel, dwA = F.transpose() * s[1].acc;
+    const Vec3 u = o.C.transpose() * wA, Omega = o.T * o.ydot;
+    const Vec3 w = u + Omega;
+    const Mat3 Tdot = cardan_zyx_tangent_rate<double>(o.y, o.ydot);
+    const Vec3 dw = o.C.transpose() * dwA + u.cross(Omega) + Tdot * o.ydot + o.T * o.yddot;
+    const Vec3 Mt = loads.M[n] + J * dw + w.cross(J * w);
+    r += o.Jw.transpose() * Mt;
+    if (!t) continue;
+    const InternalRotationTangent& ot = tan[k];
+    Mat3 dT[2], ddT[3];
+    cardan_zyx_tangent_derivatives(o.y, dT, ddT);
+    auto Dk = [&](const Vec3& v) {  // [dT/dphi v, dT/dpsi v, 0]
+      Mat3 D = Mat3::Zero();
+      D.col(0) = dT[0] * v;
+      D.col(1) = dT[1] * v;
+      return D;
+    };
+    const Mat3 Dyd = Dk(o.ydot), Dydd = Dk(o.yddot);
+    Mat3 E = Mat3::Zero();  // d(T' y')/dy at fixed y'
+    E.col(0) = (o.ydot(0) * ddT[0] + o.ydot(1) * ddT[1]) * o.ydot;
+    E.col(1) = (o.ydot(0) * ddT[1] + o.ydot(1) * ddT[2]) * o.ydot;
+    const Mat312 TY = o.T * o.Y;
+    Mat312 CE1 = Mat312::Zero();  // d(C^T wA)/d(dq)
+    CE1.block<3, 3>(0, 3) = o.C.transpose() * F.transpose();
+    // Derivatives of omega_n and omega_n' at fixed rates (K) and in the rates (C).
+    const Mat312 du = skew<double>(u) * TY;
+    const Mat312 dOmega = Dyd * o.Y + o.T * ot.dydot;
+    const Mat312 w_q = du + dOmega;
+    const Mat312 dw_q = skew<double>(Vec3(o.C.transpose() * dwA)) * TY - skew<double>(Omega) * du +
+                        skew<double>(u) * dOmega + E * o.Y + (Tdot + Dyd) * ot.dydot + Dydd * o.Y + o.T * ot.dyddot;
+    // d(y'')/d(dq) = 2 H dq, H the angles' symmetric Hessian in (d, delta_1, delta_2): from
+    // d(y')/d eps = dq^T H + (1/2) (w_i x Y_i) on the rotation blocks.
+    Mat312 Hdq2;
+    for (int i = 0; i < 3; ++i) {
+      Row9 a = contract_row(ot.dydot.row(i));
+      const Row9 y9 = contract_row(o.Y.row(i));
+      for (int e = 0; e < 2; ++e) {
+        const Vec3 we = s[1 + 2 * e].vel;
+        a.segment<3>(3 + 3 * e) -= 0.5 * we.cross(Vec3(y9.segment<3>(3 + 3 * e).transpose())).transpose();
+      }
+      Hdq2.row(i) = expand_row(2.0 * a);
+    }
+    const Mat312 dw_v = -skew<double>(Omega) * CE1 + skew<double>(u) * TY + (Tdot + Dyd) * o.Y + o.T * Hdq2;
+    const Mat3 G = skew<double>(w) * J - skew<double>(Vec3(J * w));
+    t->K += o.Jw.transpose() * (J * dw_q + G * w_q);
+    t->C += o.Jw.transpose() * (J * dw_v + G * o.Jw);
+    t->M += o.Jw.transpose() * J * o.Jw;
+    // The map's second derivatives against Mt: through C, through T and through the angles.
+    Kg.middleRows<3>(3) -= (F * o.C * skew<double>(Mt)) * TY;
+    Mat3 Q = Mat3::Zero();
+    Q.col(0) = dT[0].transpose() * Mt;
+    Q.col(1) = dT[1].transpose() * Mt;
+    Kg += o.Y.transpose() * Q * o.Y;
+    const Vec3 c = o.T.transpose() * Mt;
+    EnergyAD<9>::SecondOrder seeds;  // the angles were seeded as d, R1 exp(delta_1), R2 exp(delta_2)
+    seeds.rotations_ = {3, 6, 0, 0};
+    seeds.count_ = 2;
+    const HyperDual<9> cy = ot.y[0] * c(0) + ot.y[1] * c(1) + ot.y[2] * c(2);
+    Mat9 K9;
+    EnergyAD<9>::extract(cy, seeds, nullptr, nullptr, &K9);
+    add_expanded(K9, Kg);
+  }
+  if (t) t->K += Kg;
 }
 
 void SuperTrussElement::residual(std::span<const SlotState<double>> s, const ElementContext& ctx,
                                  Eigen::Ref<VecX> r) const {
-  AutoDiffElement::residual(s, ctx, r);
-  // The elastic force by virtual power, member by member: each member's gradient in its own
-  // variables (d = p_b - p_a and right rotations of its end frames, 9 directions of AD) projected
-  // with the closed-form node Jacobians, r += (Jp_b - Jp_a)^T f_d + Jw_a^T O_a m_a + Jw_b^T O_b m_b.
-  // Seeding the 12 end-section coordinates through the whole map instead costs 3 to 4 times more
-  // (docs/performance.md); the tangent keeps that route (it needs the map's second derivatives).
-  std::vector<Vec3> p;
-  std::vector<Mat3> R;
-  node_map<double>(s[0].pos, s[1].rot, s[2].pos, s[3].rot, p, R);
-  std::vector<Eigen::Matrix<double, 3, 12>> Jp, Jw;
-  node_jacobians<double>(s, Jp, Jw);
-  using MemberAD = EnergyAD<9>;
-  for (const MemberData& m : members_) {
-    MemberAD::FirstOrder ad;
-    const auto U = m.beam->strain_energy(ad.vec(Vec3(p[m.b] - p[m.a]), 0), ad.rot(Mat3(R[m.a] * m.offset_a), 3),
-                                         ad.rot(Mat3(R[m.b] * m.offset_b), 6));
-    MemberAD::Gradient g;
-    MemberAD::extract(U, nullptr, &g);
-    const Vec3 f_d = g.segment<3>(0), m_a = m.offset_a * g.segment<3>(3), m_b = m.offset_b * g.segment<3>(6);
-    r += (Jp[m.b] - Jp[m.a]).transpose() * f_d + Jw[m.a].transpose() * m_a + Jw[m.b].transpose() * m_b;
-  }
+  Vec12 rr;
+  evaluate(s, ctx, rr, nullptr);
+  r = rr;
 }
 
 void SuperTrussElement::tangents(std::span<const SlotState<double>> s, const ElementContext& ctx,
                                  ElementTangents& out) const {
-  TrussAD::SecondOrder ad;
-  using S = decltype(ad)::S;
-  std::vector<Vec3T<S>> p;
-  std::vector<Mat3T<S>> R;
-  node_map<S>(ad.vec(s[0].pos, 0), ad.rot(s[1].rot, 3), ad.vec(s[2].pos, 6), ad.rot(s[3].rot, 9), p, R);
-  // The inertial part and chunks of the member loop are independent (members do not affect each
-  // other, Figure 3-2): tasks on the threads OpenMP gives a region here, which is one when the
-  // assembler already evaluates several elements in parallel.
-  const int threads = omp_in_parallel() ? 1 : omp_get_max_threads();
-  const int chunks = threads > 1 ? 2 * threads : 1;
-  const int nm = static_cast<int>(members_.size());
-  std::vector<S> partial(chunks, S(0.0));
-#pragma omp parallel num_threads(threads) if (threads > 1)
-#pragma omp single
-  {
-#pragma omp task
-    AutoDiffElement::tangents(s, ctx, out);
-    for (int c = 0; c < chunks; ++c) {
-#pragma omp task firstprivate(c)
-      partial[c] = member_energy<S>(p, R, c * nm / chunks, (c + 1) * nm / chunks);
-    }
-  }
-  S U = partial[0];
-  for (int c = 1; c < chunks; ++c) U += partial[c];
-  TrussAD::Gradient g;
-  TrussAD::Stiffness K;
-  TrussAD::extract(U, ad, nullptr, &g, &K);
-  out.residual += g;
-  out.K += K;
+  out.resize(12);
+  Vec12 rr;
+  evaluate(s, ctx, rr, &out);
+  out.residual = rr;
 }
 
 ElementEnergy SuperTrussElement::energy(std::span<const SlotState<double>> s, const ElementContext& ctx) const {
-  std::vector<Vec3> p, pd, w;
-  node_kinematics<double>(s, s[0].vel, s[1].vel, s[2].vel, s[3].vel, Vec3::Zero(), Vec3::Zero(), Vec3::Zero(),
-                          Vec3::Zero(), &p, pd, nullptr, w, nullptr);
+  const EndFrames f{s.data()};
+  Vec12 dq;
+  dq << s[0].vel, s[1].vel, s[2].vel, s[3].vel;
   ElementEnergy e;
-  for (const MassPair& mp : mass_pairs_) e.kinetic += 0.5 * mp.m * pd[mp.a].dot(pd[mp.b]);
-  for (std::size_t n = 0; n < nodes_.size(); ++n) {
-    e.kinetic += 0.5 * w[n].dot(node_rotary_[n] * w[n]);
-    e.gravity_potential -= node_weight_[n] * ctx.gravity.dot(p[n]);
+  for (const auto& [a, b] : mass_points_) e.kinetic += 0.5 * (jacobian(a, f) * dq).dot(jacobian(b, f) * dq);
+  for (int i = 0; i < 2; ++i) e.kinetic += 0.5 * s[2 * i + 1].vel.dot(end_rotary_[i] * s[2 * i + 1].vel);
+  std::vector<InternalRotation> rot;
+  internal_rotations(map_, s, rot);
+  for (std::size_t k = 0; k < rot.size(); ++k) {
+    const Vec3 w = rot[k].Jw * dq;
+    e.kinetic += 0.5 * w.dot(lumped_.rotary[map_.internal_nodes()[k]] * w);
   }
-  e.strain = strain_energy<double>(s[0].pos, s[1].rot, s[2].pos, s[3].rot);
+  e.gravity_potential = -ctx.gravity.dot(position(weight_point_, f));
+  std::vector<Vec3> p;
+  std::vector<Mat3> R;
+  node_poses(s, p, R);
+  for (const Member& m : members_)
+    e.strain += m.beam->strain_energy<double>(Vec3(p[m.b] - p[m.a]), Mat3(R[m.a] * m.offset_a), Mat3(R[m.b] * m.offset_b));
   return e;
 }
 
 void SuperTrussElement::node_poses(std::span<const SlotState<double>> s, std::vector<Vec3>& p, std::vector<Mat3>& R) const {
-  node_map<double>(s[0].pos, s[1].rot, s[2].pos, s[3].rot, p, R);
+  map_.node_poses<double>(s[0].pos, s[1].rot, s[2].pos, s[3].rot, p, R);
 }
 
 std::vector<double> SuperTrussElement::member_axial_forces(std::span<const SlotState<double>> s) const {
@@ -149,7 +343,7 @@ std::vector<double> SuperTrussElement::member_axial_forces(std::span<const SlotS
   std::vector<Mat3> R;
   node_poses(s, p, R);
   std::vector<double> out;
-  for (const MemberData& m : members_) {
+  for (const Member& m : members_) {
     const BeamProperties& b = m.beam->properties();
     out.push_back(b.material.youngs_modulus * b.section.area * ((p[m.b] - p[m.a]).norm() - b.length) / b.length);
   }
@@ -157,12 +351,11 @@ std::vector<double> SuperTrussElement::member_axial_forces(std::span<const SlotS
 }
 
 std::vector<Vec3> SuperTrussElement::node_velocities(std::span<const SlotState<double>> s) const {
-  std::vector<Eigen::Matrix<double, 3, 12>> Jp, Jw;
-  node_jacobians<double>(s, Jp, Jw);
-  Eigen::Matrix<double, 12, 1> dq;
+  const EndFrames f{s.data()};
+  Vec12 dq;
   dq << s[0].vel, s[1].vel, s[2].vel, s[3].vel;
   std::vector<Vec3> out;
-  for (const auto& J : Jp) out.push_back(J * dq);
+  for (int n = 0; n < map_.num_nodes(); ++n) out.push_back(jacobian(map_.node(n).point, f) * dq);
   return out;
 }
 
@@ -177,7 +370,7 @@ std::vector<std::vector<Vec3>> SuperTrussElement::axis_polylines(std::span<const
   node_poses(s, p, R);
   std::vector<std::vector<Vec3>> out;
   std::vector<SlotState<double>> ends(4);
-  for (const MemberData& m : members_) {
+  for (const Member& m : members_) {
     ends[0].pos = p[m.a];
     ends[1].rot = R[m.a] * m.offset_a;
     ends[2].pos = p[m.b];

@@ -1,31 +1,13 @@
-// Co-rotational Timoshenko beam: elastic force and stiffness from the strain energy by AD, closed-
+// Co-rotational Timoshenko beam: elastic force and stiffness from the closed-form kernel, closed-
 // form inertia and gravity.
 #include "elements/timoshenko_beam.hpp"
 
 #include "core/hermite.hpp"
-#include "elements/energy_ad.hpp"
 
 #include <cmath>
 #include <stdexcept>
 
 namespace latticedyn {
-
-namespace {
-
-// 9 energy variables: d = r2 - r1 (0..2), rotation 1 (3..5), rotation 2 (6..8), mapped onto the
-// element's 12 DoFs [r1, theta1, r2, theta2].
-using BeamAD = EnergyAD<9>;
-
-Eigen::Matrix<double, 12, 9> energy_to_dofs() {
-  Eigen::Matrix<double, 12, 9> P = Eigen::Matrix<double, 12, 9>::Zero();
-  P.block<3, 3>(0, 0) = -Mat3::Identity();
-  P.block<3, 3>(3, 3) = Mat3::Identity();
-  P.block<3, 3>(6, 0) = Mat3::Identity();
-  P.block<3, 3>(9, 6) = Mat3::Identity();
-  return P;
-}
-
-}  // namespace
 
 void BeamProperties::validate() const {
   material.validate();
@@ -44,15 +26,16 @@ TimoshenkoBeam::TimoshenkoBeam(const BeamProperties& p) : props_(p) {
   const double rho = s.effective_density(m);
   mass_ = rho * s.area * L;
   rotary_ = 0.5 * rho * L * Vec3(s.Iy + s.Iz, s.Iy, s.Iz);
-  ea_ = E * s.area / L;
-  gj_ = G * s.torsion_constant / L;
+  stiffness_.length = L;
+  stiffness_.ea = E * s.area / L;
+  stiffness_.gj = G * s.torsion_constant / L;
   // Bending about z (deflection along y) uses Iz, about y uses Iy.
   const double phi_z = 12 * E * s.Iz / (kappa * G * s.area * L * L);
   const double phi_y = 12 * E * s.Iy / (kappa * G * s.area * L * L);
-  kz_[0] = E * s.Iz / (L * (1 + phi_z)) * (4 + phi_z);
-  kz_[1] = E * s.Iz / (L * (1 + phi_z)) * (2 - phi_z);
-  ky_[0] = E * s.Iy / (L * (1 + phi_y)) * (4 + phi_y);
-  ky_[1] = E * s.Iy / (L * (1 + phi_y)) * (2 - phi_y);
+  stiffness_.kz[0] = E * s.Iz / (L * (1 + phi_z)) * (4 + phi_z);
+  stiffness_.kz[1] = E * s.Iz / (L * (1 + phi_z)) * (2 - phi_z);
+  stiffness_.ky[0] = E * s.Iy / (L * (1 + phi_y)) * (4 + phi_y);
+  stiffness_.ky[1] = E * s.Iy / (L * (1 + phi_y)) * (2 - phi_y);
 }
 
 void TimoshenkoBeam::inertia(std::span<const SlotState<double>> s, const ElementContext& ctx, Eigen::Ref<VecX> r,
@@ -80,25 +63,19 @@ void TimoshenkoBeam::inertia(std::span<const SlotState<double>> s, const Element
 
 void TimoshenkoBeam::residual(std::span<const SlotState<double>> s, const ElementContext& ctx, Eigen::Ref<VecX> r) const {
   inertia(s, ctx, r, nullptr);
-  BeamAD::FirstOrder ad;
-  const auto U = strain_energy<decltype(ad)::S>(ad.vec(s[2].pos - s[0].pos, 0), ad.rot(s[1].rot, 3), ad.rot(s[3].rot, 6));
-  BeamAD::Gradient g;
-  BeamAD::extract(U, nullptr, &g);
-  static const Eigen::Matrix<double, 12, 9> P = energy_to_dofs();
-  r += P * g;
+  Vec9 f;
+  elastic_force(s[2].pos - s[0].pos, s[1].rot, s[3].rot, f, nullptr);
+  r += expand_force(f);
 }
 
 void TimoshenkoBeam::tangents(std::span<const SlotState<double>> s, const ElementContext& ctx, ElementTangents& out) const {
   out.resize(12);
   inertia(s, ctx, out.residual, &out);
-  BeamAD::SecondOrder ad;
-  const auto U = strain_energy<decltype(ad)::S>(ad.vec(s[2].pos - s[0].pos, 0), ad.rot(s[1].rot, 3), ad.rot(s[3].rot, 6));
-  BeamAD::Gradient g;
-  BeamAD::Stiffness K;
-  BeamAD::extract(U, ad, nullptr, &g, &K);
-  static const Eigen::Matrix<double, 12, 9> P = energy_to_dofs();
-  out.residual += P * g;
-  out.K += P * K * P.transpose();
+  Vec9 f;
+  Mat9 K;
+  elastic_force(s[2].pos - s[0].pos, s[1].rot, s[3].rot, f, &K);
+  out.residual += expand_force(f);
+  add_expanded(K, out.K);
 }
 
 ElementEnergy TimoshenkoBeam::energy(std::span<const SlotState<double>> s, const ElementContext& ctx) const {
@@ -112,15 +89,14 @@ ElementEnergy TimoshenkoBeam::energy(std::span<const SlotState<double>> s, const
 }
 
 std::optional<double> TimoshenkoBeam::axial_force(std::span<const SlotState<double>> s, const ElementContext&) const {
-  return ea_ * ((s[2].pos - s[0].pos).norm() - props_.length);
+  return stiffness_.ea * ((s[2].pos - s[0].pos).norm() - props_.length);
 }
 
 std::vector<Vec3> TimoshenkoBeam::axis_points(std::span<const SlotState<double>> s, const ElementContext&) const {
-  double u;
-  Vec3 a, b;
-  Mat3 Rr;
   const Vec3 d = s[2].pos - s[0].pos;
-  local_deformation<double>(d, s[1].rot, s[3].rot, u, a, b, &Rr);
+  const CorotationalDeformation<double> def = corotational_deformation<double>(stiffness_, d, s[1].rot, s[3].rot);
+  const Vec3 &a = def.th1, &b = def.th2;
+  const Mat3& Rr = def.Rr;
   const double l = d.norm();
   std::vector<Vec3> pts;
   for (int k = 0; k <= 4; ++k) {
