@@ -10,6 +10,8 @@
 
 #include <petscvec.h>
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -136,6 +138,10 @@ void SystemAssembler::estimate_scales() {
     mass_scale_ = mass / count;
     stiffness_scale_ = stiffness / count;
   }
+  Eigen::AlignedBox3d box;
+  for (const DofBlock& b : model_.blocks)
+    if (b.kind == SlotKind::translation) box.extend(b.position0);
+  length_scale_ = box.isEmpty() ? 1.0 : std::max(box.diagonal().norm(), 1e-3);
   if (!(mass_scale_ > 0)) mass_scale_ = 1.0;
   if (!(stiffness_scale_ > 0)) stiffness_scale_ = mass_scale_ * std::max(model_.gravity.norm(), 1.0);
 }
@@ -356,7 +362,7 @@ PetscErrorCode SystemAssembler::jacobian(const EvaluationPoint& at, const Evalua
 
   // y: the residual in omega-variables per rotation block, for the derivative of T^T(phi) y.
   std::vector<Vec3> y(model_.blocks.size(), Vec3::Zero());
-  const ElementContext ctx{how.load_scale * model_.gravity, at.t};
+  const ElementContext ctx{how.load_scale * model_.gravity, at.t, !have_v_ && !have_a_ && cv == 0.0 && ca == 0.0};
   std::vector<PetscInt> idx;
   RowMajor Je;
 

@@ -9,6 +9,8 @@
 
 #include <petscmat.h>
 
+#include <limits>
+
 namespace latticedyn {
 
 /// Where to evaluate. U holds coordinates and multipliers; V, A their first and second rates in
@@ -77,6 +79,11 @@ class SystemAssembler {
   /// Typical diagonal mass and stiffness at the initial state, for scaling constraint rows.
   double characteristic_mass() const { return mass_scale_; }
   double characteristic_stiffness() const { return stiffness_scale_; }
+  /// Size of the model: the diagonal of the box around its initial translation coordinates.
+  double characteristic_length() const { return length_scale_; }
+  /// The residual's round-off floor, as an absolute force: a stiffness k moves forces by about
+  /// k eps L when coordinates of size L carry round-off eps; 100 covers the sums over elements.
+  double residual_floor() const { return 100.0 * std::numeric_limits<double>::epsilon() * stiffness_scale_ * length_scale_; }
 
  private:
   struct LocalData;
@@ -103,6 +110,7 @@ class SystemAssembler {
   std::vector<Vec3> phi_;     // rotation vectors of needed rotation blocks
   double mass_scale_ = 1.0;
   double stiffness_scale_ = 1.0;
+  double length_scale_ = 1.0;
   // Expensive elements are evaluated on threads_ threads into buffers first (element_loop.hpp);
   // cheap ones inline, where a thread would cost more than it saves.
   int threads_ = 1;

@@ -57,9 +57,7 @@ Vec3 rescaled_rotation_vector(const Vec3& phi) {
   return phi * (reduced / theta);
 }
 
-void cardan_zyx_tangent_derivatives(const Vec3& angles, Mat3 dT[2], Mat3 ddT[3]) {
-  const double sf = std::sin(angles(0)), cf = std::cos(angles(0));
-  const double sp = std::sin(angles(1)), cp = std::cos(angles(1));
+void cardan_zyx_tangent_derivatives(double sf, double cf, double sp, double cp, Mat3 dT[2], Mat3 ddT[3]) {
   dT[0] << 0, 0, 0, 0, -sf, cf * cp, 0, -cf, -sf * cp;
   dT[1] << 0, 0, -cp, 0, 0, -sf * sp, 0, 0, -cf * sp;
   ddT[0] << 0, 0, 0, 0, -cf, -sf * cp, 0, sf, -cf * cp;

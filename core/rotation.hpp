@@ -108,6 +108,12 @@ Mat3T<S> tangent_operator_inverse(const Vec3T<S>& phi) {
   return Mat3T<S>::Identity() + S(0.5) * P + rotation_detail::inverse_coefficient(x) * (P * P);
 }
 
+/// T(phi)^-T m = m - phi x m / 2 + c3 phi x (phi x m), without forming the matrix.
+inline Vec3 tangent_inverse_transpose_times(const Vec3& phi, const Vec3& m) {
+  const Vec3 pm = phi.cross(m);
+  return m - 0.5 * pm + rotation_detail::inverse_coefficient(phi.squaredNorm()) * phi.cross(pm);
+}
+
 /// d(T(phi)^-T m)/dphi for a fixed vector m: the change of the generalized moment T^-T m that a
 /// log-map coordinate phi carries when phi changes (the co-rotational beam's local rotations).
 /// T^-T m = m - phi x m / 2 + c3 phi x (phi x m), so the derivative is
@@ -214,10 +220,11 @@ Mat3T<S> cardan_zyx_tangent_rate(const Vec3T<S>& angles, const Vec3T<S>& rates) 
   return Td;
 }
 
-/// First and second derivatives of the Cardan tangent T(angles) with respect to the angles
-/// (T depends on phi_x and psi_y only): dT[0] = dT/dphi, dT[1] = dT/dpsi, ddT[0] = d2T/dphi2,
-/// ddT[1] = d2T/dphi dpsi, ddT[2] = d2T/dpsi2.
-void cardan_zyx_tangent_derivatives(const Vec3& angles, Mat3 dT[2], Mat3 ddT[3]);
+/// First and second derivatives of the Cardan tangent T(angles) with respect to the angles, from
+/// the sines and cosines of phi_x and psi_y (T depends on no other): dT[0] = dT/dphi,
+/// dT[1] = dT/dpsi, ddT[0] = d2T/dphi2, ddT[1] = d2T/dphi dpsi, ddT[2] = d2T/dpsi2.
+void cardan_zyx_tangent_derivatives(double sin_phi, double cos_phi, double sin_psi, double cos_psi, Mat3 dT[2],
+                                    Mat3 ddT[3]);
 
 /// Cardan angles of a rotation matrix, unique for |psi| < pi/2 (B-20).
 Vec3 cardan_zyx_angles(const Mat3& R);

@@ -21,7 +21,7 @@ void corotational_force(const CorotationalStiffness& k, const Vec3& d, const Mat
                         Mat9* K) {
   const CorotationalDeformation<double> def = corotational_deformation<double>(k, d, R1, R2);
   const Vec3 e1 = def.Rr.col(0), e2 = def.Rr.col(1), e3 = def.Rr.col(2);
-  const Mat3 Rb1 = def.Rr.transpose() * R1, Rb2 = def.Rr.transpose() * R2;
+  const Mat3 &Rb1 = def.Rb1, &Rb2 = def.Rb2;
   const double l = d.norm(), il = 1.0 / l;
   const Vec3 q = 0.5 * (R1.col(1) + R2.col(1));
   const double qe1 = q.dot(e1), qe2 = q.dot(e2), eta = qe1 / qe2, h = 0.5 / qe2;
@@ -29,11 +29,10 @@ void corotational_force(const CorotationalStiffness& k, const Vec3& d, const Mat
   Vec3 m1, m2;
   local_moments(k, def.th1, def.th2, m1, m2);
   const double N = k.ea * def.u;
-  const Mat3 Ti1 = tangent_operator_inverse<double>(def.th1), Ti2 = tangent_operator_inverse<double>(def.th2);
-  const Vec3 mu1 = Ti1.transpose() * m1, mu2 = Ti2.transpose() * m2;
+  const Vec3 mu1 = tangent_inverse_transpose_times(def.th1, m1), mu2 = tangent_inverse_transpose_times(def.th2, m2);
   const Vec3 nu = Rb1 * mu1 + Rb2 * mu2;
   const Vec3 ey = Vec3::UnitY();
-  const Vec3 s1 = R1.transpose() * e3, s2 = R2.transpose() * e3;
+  const Vec3 s1 = Rb1.row(2).transpose(), s2 = Rb2.row(2).transpose();  // R_i^T e3 = R_bar_i^T e_z
   const Vec3 z1 = ey.cross(s1), z2 = ey.cross(s2);
   const double a = (eta * nu(0) + nu(1)) * il, b = nu(2) * il;
   f.segment<3>(0) = N * e1 + a * e3 - b * e2;
@@ -42,6 +41,7 @@ void corotational_force(const CorotationalStiffness& k, const Vec3& d, const Mat
   if (!K) return;
 
   // Variations in the 9 directions (eps_d, eps_1, eps_2).
+  const Mat3 Ti1 = tangent_operator_inverse<double>(def.th1), Ti2 = tangent_operator_inverse<double>(def.th2);
   Row9 dl = Row9::Zero();
   dl.segment<3>(0) = e1.transpose();
   Mat39 G = Mat39::Zero();  // omega_r, components in Rr

@@ -46,6 +46,7 @@ struct CorotationalDeformation {
   S u;
   Vec3T<S> th1, th2;
   Mat3T<S> Rr;
+  Mat3T<S> Rb1, Rb2;  ///< the end frames in the co-rotational frame, Rr^T R_i = exp(skew(theta_i))
 };
 
 template <class S>
@@ -63,8 +64,10 @@ CorotationalDeformation<S> corotational_deformation(const CorotationalStiffness&
   out.Rr.col(1) = e3.cross(e1);
   out.Rr.col(2) = e3;
   out.u = l - k.length;
-  out.th1 = small_rotation_vector<S>(out.Rr.transpose() * R1);
-  out.th2 = small_rotation_vector<S>(out.Rr.transpose() * R2);
+  out.Rb1 = out.Rr.transpose() * R1;
+  out.Rb2 = out.Rr.transpose() * R2;
+  out.th1 = small_rotation_vector<S>(out.Rb1);
+  out.th2 = small_rotation_vector<S>(out.Rb2);
   return out;
 }
 

@@ -39,6 +39,9 @@ struct SlotState {
 struct ElementContext {
   Vec3 gravity = Vec3::Zero();
   double time = 0.0;
+  /// Tangents at rest: every slot's rate is zero and only K is wanted (statics without
+  /// regularization). Elements may then skip the terms that need rates and leave C and M zero.
+  bool at_rest = false;
 };
 
 struct ElementEnergy {

@@ -3,8 +3,6 @@
 // rotary inertia of the nodes through the map's rotations.
 #include "elements/super_truss.hpp"
 
-#include "elements/energy_ad.hpp"
-
 #include <omp.h>
 
 #include <map>
@@ -117,7 +115,9 @@ void SuperTrussElement::add_members(const Evaluation& ev, int first, int last, M
     P.topRows<3>() = ev.Jp[m.b] - ev.Jp[m.a];
     P.middleRows<3>(3) = m.offset_a.transpose() * ev.Jw[m.a];
     P.bottomRows<3>() = m.offset_b.transpose() * ev.Jw[m.b];
-    out.K.noalias() += P.transpose() * (K9 * P);
+    // Coefficient-wise products: at these sizes Eigen's blocked GEMM costs more than it saves.
+    const Eigen::Matrix<double, 9, 12> KP = K9.lazyProduct(P);
+    out.K.noalias() += P.transpose().lazyProduct(KP);
   }
 }
 
@@ -127,7 +127,7 @@ void SuperTrussElement::add_translational_inertia(std::span<const SlotState<doub
   for (const auto& [a, b] : mass_points_) {
     const Vec3 acc = acceleration(b, f);
     add_point_force(a, f, acc, r);
-    if (!t) continue;
+    if (!t || ctx.at_rest) continue;  // at rest the accelerations and their tangents vanish
     const Mat312 Ja = jacobian(a, f);
     t->M += Ja.transpose() * jacobian(b, f);
     t->C += Ja.transpose() * acceleration_velocity_derivative(b, f);
@@ -226,7 +226,11 @@ void SuperTrussElement::evaluate(std::span<const SlotState<double>> s, const Ele
   // omega_n' = C^T wA' + (C^T wA) x (T y') + T' y' + T y''; their moments M_n + tau_n act through
   // Jw = C^T E1 + T Y.
   std::vector<InternalRotationTangent> tan;
-  if (t) internal_rotation_tangents(map_, s, tan);
+  std::vector<Vec3> angle_weights;  // T^T Mt per internal node: what the angles' Hessians are weighed with
+  if (t) {
+    if (!ctx.at_rest) internal_rotation_tangents(map_, s, tan);
+    angle_weights.resize(internal.size());
+  }
   for (std::size_t k = 0; k < internal.size(); ++k) {
     const int n = internal[k];
     const InternalRotation& o = ev.rot[k];
@@ -235,66 +239,64 @@ void SuperTrussElement::evaluate(std::span<const SlotState<double>> s, const Ele
     const Vec3 wA = F.transpose() * s[1].vel, dwA = F.transpose() * s[1].acc;
     const Vec3 u = o.C.transpose() * wA, Omega = o.T * o.ydot;
     const Vec3 w = u + Omega;
-    const Mat3 Tdot = cardan_zyx_tangent_rate<double>(o.y, o.ydot);
+    const Mat3& Tdot = o.Tdot;
     const Vec3 dw = o.C.transpose() * dwA + u.cross(Omega) + Tdot * o.ydot + o.T * o.yddot;
     const Vec3 Mt = loads.M[n] + J * dw + w.cross(J * w);
     r += o.Jw.transpose() * Mt;
     if (!t) continue;
-    const InternalRotationTangent& ot = tan[k];
     Mat3 dT[2], ddT[3];
-    cardan_zyx_tangent_derivatives(o.y, dT, ddT);
-    auto Dk = [&](const Vec3& v) {  // [dT/dphi v, dT/dpsi v, 0]
-      Mat3 D = Mat3::Zero();
-      D.col(0) = dT[0] * v;
-      D.col(1) = dT[1] * v;
-      return D;
-    };
-    const Mat3 Dyd = Dk(o.ydot), Dydd = Dk(o.yddot);
-    Mat3 E = Mat3::Zero();  // d(T' y')/dy at fixed y'
-    E.col(0) = (o.ydot(0) * ddT[0] + o.ydot(1) * ddT[1]) * o.ydot;
-    E.col(1) = (o.ydot(0) * ddT[1] + o.ydot(1) * ddT[2]) * o.ydot;
+    cardan_zyx_tangent_derivatives(o.sphi, o.cphi, o.spsi, o.cpsi, dT, ddT);
     const Mat312 TY = o.T * o.Y;
-    Mat312 CE1 = Mat312::Zero();  // d(C^T wA)/d(dq)
-    CE1.block<3, 3>(0, 3) = o.C.transpose() * F.transpose();
-    // Derivatives of omega_n and omega_n' at fixed rates (K) and in the rates (C).
-    const Mat312 du = skew<double>(u) * TY;
-    const Mat312 dOmega = Dyd * o.Y + o.T * ot.dydot;
-    const Mat312 w_q = du + dOmega;
-    const Mat312 dw_q = skew<double>(Vec3(o.C.transpose() * dwA)) * TY - skew<double>(Omega) * du +
-                        skew<double>(u) * dOmega + E * o.Y + (Tdot + Dyd) * ot.dydot + Dydd * o.Y + o.T * ot.dyddot;
-    // d(y'')/d(dq) = 2 H dq, H the angles' symmetric Hessian in (d, delta_1, delta_2): from
-    // d(y')/d eps = dq^T H + (1/2) (w_i x Y_i) on the rotation blocks.
-    Mat312 Hdq2;
-    for (int i = 0; i < 3; ++i) {
-      Row9 a = contract_row(ot.dydot.row(i));
-      const Row9 y9 = contract_row(o.Y.row(i));
-      for (int e = 0; e < 2; ++e) {
-        const Vec3 we = s[1 + 2 * e].vel;
-        a.segment<3>(3 + 3 * e) -= 0.5 * we.cross(Vec3(y9.segment<3>(3 + 3 * e).transpose())).transpose();
+    if (!ctx.at_rest) {  // the rotary inertia's tangents; at rest they vanish
+      const InternalRotationTangent& ot = tan[k];
+      auto Dk = [&](const Vec3& v) {  // [dT/dphi v, dT/dpsi v, 0]
+        Mat3 D = Mat3::Zero();
+        D.col(0) = dT[0] * v;
+        D.col(1) = dT[1] * v;
+        return D;
+      };
+      const Mat3 Dyd = Dk(o.ydot), Dydd = Dk(o.yddot);
+      Mat3 E = Mat3::Zero();  // d(T' y')/dy at fixed y'
+      E.col(0) = (o.ydot(0) * ddT[0] + o.ydot(1) * ddT[1]) * o.ydot;
+      E.col(1) = (o.ydot(0) * ddT[1] + o.ydot(1) * ddT[2]) * o.ydot;
+      Mat312 CE1 = Mat312::Zero();  // d(C^T wA)/d(dq)
+      CE1.block<3, 3>(0, 3) = o.C.transpose() * F.transpose();
+      // Derivatives of omega_n and omega_n' at fixed rates (K) and in the rates (C).
+      const Mat312 du = skew<double>(u) * TY;
+      const Mat312 dOmega = Dyd * o.Y + o.T * ot.dydot;
+      const Mat312 w_q = du + dOmega;
+      const Mat312 dw_q = skew<double>(Vec3(o.C.transpose() * dwA)) * TY - skew<double>(Omega) * du +
+                          skew<double>(u) * dOmega + E * o.Y + (Tdot + Dyd) * ot.dydot + Dydd * o.Y + o.T * ot.dyddot;
+      // d(y'')/d(dq) = 2 H dq, H the angles' symmetric Hessian in (d, delta_1, delta_2): from
+      // d(y')/d eps = dq^T H + (1/2) (w_i x Y_i) on the rotation blocks.
+      Mat312 Hdq2;
+      for (int i = 0; i < 3; ++i) {
+        Row9 a = contract_row(ot.dydot.row(i));
+        const Row9 y9 = contract_row(o.Y.row(i));
+        for (int e = 0; e < 2; ++e) {
+          const Vec3 we = s[1 + 2 * e].vel;
+          a.segment<3>(3 + 3 * e) -= 0.5 * we.cross(Vec3(y9.segment<3>(3 + 3 * e).transpose())).transpose();
+        }
+        Hdq2.row(i) = expand_row(2.0 * a);
       }
-      Hdq2.row(i) = expand_row(2.0 * a);
+      const Mat312 dw_v = -skew<double>(Omega) * CE1 + skew<double>(u) * TY + (Tdot + Dyd) * o.Y + o.T * Hdq2;
+      const Mat3 G = skew<double>(w) * J - skew<double>(Vec3(J * w));
+      t->K += o.Jw.transpose() * (J * dw_q + G * w_q);
+      t->C += o.Jw.transpose() * (J * dw_v + G * o.Jw);
+      t->M += o.Jw.transpose() * J * o.Jw;
     }
-    const Mat312 dw_v = -skew<double>(Omega) * CE1 + skew<double>(u) * TY + (Tdot + Dyd) * o.Y + o.T * Hdq2;
-    const Mat3 G = skew<double>(w) * J - skew<double>(Vec3(J * w));
-    t->K += o.Jw.transpose() * (J * dw_q + G * w_q);
-    t->C += o.Jw.transpose() * (J * dw_v + G * o.Jw);
-    t->M += o.Jw.transpose() * J * o.Jw;
     // The map's second derivatives against Mt: through C, through T and through the angles.
     Kg.middleRows<3>(3) -= (F * o.C * skew<double>(Mt)) * TY;
     Mat3 Q = Mat3::Zero();
     Q.col(0) = dT[0].transpose() * Mt;
     Q.col(1) = dT[1].transpose() * Mt;
     Kg += o.Y.transpose() * Q * o.Y;
-    const Vec3 c = o.T.transpose() * Mt;
-    EnergyAD<9>::SecondOrder seeds;  // the angles were seeded as d, R1 exp(delta_1), R2 exp(delta_2)
-    seeds.rotations_ = {3, 6, 0, 0};
-    seeds.count_ = 2;
-    const HyperDual<9> cy = ot.y[0] * c(0) + ot.y[1] * c(1) + ot.y[2] * c(2);
-    Mat9 K9;
-    EnergyAD<9>::extract(cy, seeds, nullptr, nullptr, &K9);
-    add_expanded(K9, Kg);
+    angle_weights[k] = o.T.transpose() * Mt;
   }
-  if (t) t->K += Kg;
+  if (t) {
+    add_expanded(contracted_angle_hessian(map_, s, ev.rot, angle_weights), Kg);
+    t->K += Kg;
+  }
 }
 
 void SuperTrussElement::residual(std::span<const SlotState<double>> s, const ElementContext& ctx,

@@ -59,26 +59,46 @@ SuperTrussMap::SuperTrussMap(const TrussSectionSpec& spec, const TrussGeometry& 
   }
 }
 
+namespace {
+
+// First and second time derivatives of atan2(y(t), x(t)), without its value.
+void angle_rates(const Jet<double>& y, const Jet<double>& x, double& rate, double& accel) {
+  const double D = x.x * x.x + y.x * y.x;
+  const double N = x.x * y.dx - y.x * x.dx;
+  const double dD = 2.0 * (x.x * x.dx + y.x * y.dx);
+  rate = N / D;
+  accel = (x.x * y.ddx - y.x * x.ddx) / D - N * dD / (D * D);
+}
+
+Mat3 value_of(const Mat3T<Jet<double>>& m) {
+  Mat3 v;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) v(i, j) = m(i, j).x;
+  return v;
+}
+
+}  // namespace
+
 void internal_rotations(const SuperTrussMap& map, std::span<const SlotState<double>> s,
                         std::vector<InternalRotation>& out) {
   const Mat3 &R1 = s[1].rot, &R2 = s[3].rot;
   const Vec3 d = s[2].pos - s[0].pos;
-  // Angles and their rates from jets of the relative pose along the current motion.
+  // The relative pose and its rates, from jets along the current motion.
   using J = Jet<double>;
   Vec3T<J> dj;
   for (int i = 0; i < 3; ++i) dj(i) = J(d(i), s[2].vel(i) - s[0].vel(i), s[2].acc(i) - s[0].acc(i));
   const auto relj = SuperTrussMap::relative_pose<J>(dj, rotation_jet<double>(R1, s[1].vel, s[1].acc),
                                                     rotation_jet<double>(R2, s[3].vel, s[3].acc));
+  const Mat3 Q = value_of(relj.Q), R1t = R1.transpose();
+  const Vec3 dloc(relj.d(0).x, relj.d(1).x, relj.d(2).x);
   out.resize(map.internal_nodes().size());
   std::size_t k = 0;
   for (const SuperTrussMap::MainBeam& mb : map.main_beams()) {
     const Mat3& F = mb.frame;
-    const J phi12j = SuperTrussMap::twist<J>(mb, relj.Q);
+    const Mat3 A = R1 * F, Ft = F.transpose(), FtQ = Ft * Q;
+    const J phi12 = SuperTrussMap::twist<J>(mb, relj.Q);
     // d(phi12)/d(delta_1, delta_2) from C12' = -skew(F^T d1) C12 + C12 skew(F^T d2).
-    Mat3 Q;
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) Q(i, j) = relj.Q(i, j).x;
-    const Mat3 C12 = F.transpose() * Q * F;
+    const Mat3 C12 = FtQ * F;
     const double c21 = C12(2, 1), c22 = C12(2, 2), q = c21 * c21 + c22 * c22;
     Row9 dphi12 = Row9::Zero();
     for (int l = 0; l < 3; ++l) {
@@ -88,30 +108,49 @@ void internal_rotations(const SuperTrussMap& map, std::span<const SlotState<doub
       dphi12.segment<3>(3) += gA * F.col(l).transpose();
       dphi12.segment<3>(6) += gB * F.col(l).transpose();
     }
+    const Mat3 dm_d = Ft * R1t;  // times g2: dm/d(d)
     for (int n : mb.internal) {
       const SuperTrussMap::Node& nd = map.node(n);
       InternalRotation& o = out[k++];
-      const Vec3T<J> yj = map.cardan_angles<J>(nd, relj, phi12j);
-      for (int i = 0; i < 3; ++i) o.y(i) = yj(i).x, o.ydot(i) = yj(i).dx, o.yddot(i) = yj(i).ddx;
-      // The tangent in A and its derivative in (d, delta_1, delta_2):
-      // m = F^T w, w = g2 R1^T d + t1 + Q t2; dw = g2 R1^T dd + skew(w - t1) d1 - Q skew(t2) d2.
-      const Vec3 w = Vec3(relj.d(0).x, relj.d(1).x, relj.d(2).x) * nd.g2 + Q * nd.t2;
-      const Vec3 m = F.transpose() * (w + nd.t1);
-      Mat39 dm;
-      dm.block<3, 3>(0, 0) = nd.g2 * (F.transpose() * R1.transpose());
-      dm.block<3, 3>(0, 3) = F.transpose() * skew<double>(w);
-      dm.block<3, 3>(0, 6) = -(F.transpose() * Q) * skew<double>(nd.t2);
-      const double rho2 = m(0) * m(0) + m(1) * m(1), rho = std::sqrt(rho2), mm = rho2 + m(2) * m(2);
+      // The tangent in A, m = F^T (g2 R1^T d + t1 + Q t2), as a jet; its direction gives theta
+      // and psi, the twist phi = xi phi12.
+      const Vec3T<J> wj = relj.d * nd.g2 + relj.Q * nd.t2;
+      const Vec3T<J> mj = Ft * Vec3T<J>(wj + nd.t1.cast<J>());
+      const Vec3 m(mj(0).x, mj(1).x, mj(2).x);
+      const J rhoj = sqrt(mj(0) * mj(0) + mj(1) * mj(1));
+      angle_rates(mj(1), mj(0), o.ydot(2), o.yddot(2));
+      angle_rates(-mj(2), rhoj, o.ydot(1), o.yddot(1));
+      const double phi = nd.xi * phi12.x;
+      o.ydot(0) = nd.xi * phi12.dx;
+      o.yddot(0) = nd.xi * phi12.ddx;
+      const double rho2 = m(0) * m(0) + m(1) * m(1), rho = std::sqrt(rho2), mm = rho2 + m(2) * m(2), mn = std::sqrt(mm);
+      o.sphi = std::sin(phi), o.cphi = std::cos(phi);
+      o.spsi = -m(2) / mn, o.cpsi = rho / mn;
+      const double st = m(1) / rho, ct = m(0) / rho;
+      // C = Rz(theta) Ry(psi) Rx(phi): the first column is m / |m|.
+      Mat3 Rzy;
+      Rzy << ct * o.cpsi, -st, ct * o.spsi, st * o.cpsi, ct, st * o.spsi, -o.spsi, 0.0, o.cpsi;
+      Mat3 Rx;
+      Rx << 1, 0, 0, 0, o.cphi, -o.sphi, 0, o.sphi, o.cphi;
+      o.C = Rzy * Rx;
+      o.T << 1, 0, -o.spsi, 0, o.cphi, o.sphi * o.cpsi, 0, -o.sphi, o.cphi * o.cpsi;
+      const double dphi = o.ydot(0), dpsi = o.ydot(1);
+      o.Tdot << 0, 0, -o.cpsi * dpsi, 0, -o.sphi * dphi, o.cphi * o.cpsi * dphi - o.sphi * o.spsi * dpsi, 0,
+          -o.cphi * dphi, -o.sphi * o.cpsi * dphi - o.cphi * o.spsi * dpsi;
+      // Y: dy/d(d, delta_1, delta_2) through dm = [g2 F^T R1^T, F^T skew(w), -F^T Q skew(t2)].
+      const Vec3 w = dloc * nd.g2 + Q * nd.t2;
       const Eigen::RowVector3d gtheta(-m(1) / rho2, m(0) / rho2, 0.0);
       const Eigen::RowVector3d gpsi(m(2) * m(0) / (rho * mm), m(2) * m(1) / (rho * mm), -rho / mm);
+      o.m = m;
+      o.dm.block<3, 3>(0, 0) = nd.g2 * dm_d;
+      o.dm.block<3, 3>(0, 3) = Ft * skew<double>(w);
+      o.dm.block<3, 3>(0, 6) = -FtQ * skew<double>(nd.t2);
       o.Y.row(0) = expand_row(nd.xi * dphi12);
-      o.Y.row(1) = expand_row(gpsi * dm);
-      o.Y.row(2) = expand_row(gtheta * dm);
-      o.C = rotation_z<double>(o.y(2)) * rotation_y<double>(o.y(1)) * rotation_x<double>(o.y(0));
-      o.T = cardan_zyx_tangent<double>(o.y);
-      o.A = R1 * F;
-      o.Jw = o.T * o.Y;
-      o.Jw.block<3, 3>(0, 3) += o.C.transpose() * F.transpose();
+      o.Y.row(1) = expand_row(gpsi * o.dm);
+      o.Y.row(2) = expand_row(gtheta * o.dm);
+      o.A = A;
+      o.Jw.noalias() = o.T * o.Y;
+      o.Jw.block<3, 3>(0, 3) += o.C.transpose() * Ft;
     }
   }
 }
@@ -120,15 +159,6 @@ void internal_rotation_tangents(const SuperTrussMap& map, std::span<const SlotSt
                                 std::vector<InternalRotationTangent>& out) {
   const Vec3 d = s[2].pos - s[0].pos;
   out.resize(map.internal_nodes().size());
-  // Second derivatives of the angles in (d, delta_1, delta_2).
-  {
-    EnergyAD<9>::SecondOrder ad;
-    using HD = EnergyAD<9>::SecondOrder::S;
-    std::vector<Vec3T<HD>> y;
-    map.all_cardan_angles<HD>(ad.vec(d, 0), ad.rot(s[1].rot, 3), ad.rot(s[3].rot, 6), y);
-    for (std::size_t k = 0; k < y.size(); ++k)
-      for (int i = 0; i < 3; ++i) out[k].y[i] = y[k](i);
-  }
   // d(y')/d eps and d(y'')/d eps: jets along the current motion from the perturbed state.
   EnergyAD<9>::FirstOrder ad;
   using D = EnergyAD<9>::FirstOrder::S;
@@ -149,6 +179,113 @@ void internal_rotation_tangents(const SuperTrussMap& map, std::span<const SlotSt
       out[k].dydot.row(i) = expand_row(a);
       out[k].dyddot.row(i) = expand_row(b);
     }
+}
+
+}  // namespace latticedyn
+
+namespace latticedyn {
+
+namespace {
+
+// Hessian of atan2(y, x) in (y, x): [f_yy, f_yx; f_xy, f_xx].
+Eigen::Matrix2d atan2_hessian(double y, double x) {
+  const double r2 = x * x + y * y, r4 = r2 * r2;
+  Eigen::Matrix2d H;
+  H << -2 * x * y / r4, (y * y - x * x) / r4, (y * y - x * x) / r4, 2 * x * y / r4;
+  return H;
+}
+
+// Hessians of theta = atan2(m1, m0) and psi = atan2(-m2, |(m0, m1)|) in m.
+void direction_hessians(const Vec3& m, Mat3& Htheta, Mat3& Hpsi) {
+  Htheta.setZero();
+  const Eigen::Matrix2d Ht = atan2_hessian(m(1), m(0));  // (y = m1, x = m0)
+  Htheta(1, 1) = Ht(0, 0);
+  Htheta(0, 1) = Htheta(1, 0) = Ht(0, 1);
+  Htheta(0, 0) = Ht(1, 1);
+  const double rho = std::hypot(m(0), m(1)), X = rho, Y = -m(2), D = X * X + Y * Y;
+  const Vec3 gX(m(0) / rho, m(1) / rho, 0.0), gY(0.0, 0.0, -1.0);
+  const Eigen::Matrix2d Hp = atan2_hessian(Y, X);
+  Mat3 HX = Mat3::Zero();  // Hessian of rho: (I - n n^T) / rho in the (m0, m1) block
+  const Eigen::Vector2d n(m(0) / rho, m(1) / rho);
+  HX.topLeftCorner<2, 2>() = (Eigen::Matrix2d::Identity() - n * n.transpose()) / rho;
+  const double fX = -Y / D;
+  Hpsi = Hp(0, 0) * gY * gY.transpose() + Hp(1, 1) * gX * gX.transpose() +
+         Hp(0, 1) * (gX * gY.transpose() + gY * gX.transpose()) + fX * HX;
+}
+
+}  // namespace
+
+Mat9 contracted_angle_hessian(const SuperTrussMap& map, std::span<const SlotState<double>> s,
+                              const std::vector<InternalRotation>& rot, const std::vector<Vec3>& c) {
+  const Mat3 &R1 = s[1].rot, &R2 = s[3].rot;
+  const Mat3 R1t = R1.transpose(), Q = R1t * R2;
+  const Vec3 dloc = R1t * (s[2].pos - s[0].pos);
+  Mat9 K = Mat9::Zero();
+  Row9 g = Row9::Zero();  // the gradient of sum c_n . y_n
+  // The weights' linear action on the relative pose: sum over nodes of lambda . H(m) becomes
+  // H(v . dloc) + H(tr(B^T Q)).
+  Vec3 v = Vec3::Zero();
+  Mat3 B = Mat3::Zero();
+  std::size_t k = 0;
+  for (const SuperTrussMap::MainBeam& mb : map.main_beams()) {
+    const Mat3& F = mb.frame;
+    const Vec3 f1 = F.col(1), f2 = F.col(2);
+    double w_twist = 0.0;  // sum over the beam's nodes of c_phi xi: the weight of phi12
+    for (int n : mb.internal) {
+      const SuperTrussMap::Node& nd = map.node(n);
+      const InternalRotation& o = rot[k];
+      const Vec3& cn = c[k];
+      ++k;
+      const Vec3& m = o.m;
+      const double rho2 = m(0) * m(0) + m(1) * m(1), rho = std::sqrt(rho2), mm = rho2 + m(2) * m(2);
+      const Vec3 gtheta(-m(1) / rho2, m(0) / rho2, 0.0);
+      const Vec3 gpsi(m(2) * m(0) / (rho * mm), m(2) * m(1) / (rho * mm), -rho / mm);
+      Mat3 Htheta, Hpsi;
+      direction_hessians(m, Htheta, Hpsi);
+      const Vec3 lambda = cn(1) * gpsi + cn(2) * gtheta;
+      const Mat3 Lambda = cn(1) * Hpsi + cn(2) * Htheta;
+      K.noalias() += o.dm.transpose() * Lambda * o.dm;
+      const Vec3 Fl = F * lambda;
+      v += nd.g2 * Fl;
+      B += Fl * nd.t2.transpose();
+      w_twist += cn(0) * nd.xi;
+      for (int a = 0; a < 3; ++a) g += cn(a) * Eigen::Matrix<double, 1, 9>(
+                                               (Row9() << o.Y.row(a).segment<3>(6), o.Y.row(a).segment<3>(3),
+                                                o.Y.row(a).segment<3>(9))
+                                                   .finished());
+    }
+    // phi12 = atan2(C21, C22), C2j = f2^T Q fj: its gradient part folds into B, its Hessian part
+    // needs the entries' gradients, dC2j/d delta_1 = f2 x Q fj, dC2j/d delta_2 = fj x Q^T f2.
+    const double c21 = f2.dot(Q * f1), c22 = f2.dot(Q * f2), q = c21 * c21 + c22 * c22;
+    B += w_twist * (c22 / q) * f2 * f1.transpose() - w_twist * (c21 / q) * f2 * f2.transpose();
+    Row9 dc21 = Row9::Zero(), dc22 = Row9::Zero();
+    dc21.segment<3>(3) = f2.cross(Q * f1).transpose();
+    dc21.segment<3>(6) = f1.cross(Q.transpose() * f2).transpose();
+    dc22.segment<3>(3) = f2.cross(Q * f2).transpose();
+    dc22.segment<3>(6) = f2.cross(Q.transpose() * f2).transpose();
+    const Eigen::Matrix2d Ha = atan2_hessian(c21, c22);
+    K += w_twist * (Ha(0, 0) * dc21.transpose() * dc21 + Ha(1, 1) * dc22.transpose() * dc22 +
+                    Ha(0, 1) * (dc21.transpose() * dc22 + dc22.transpose() * dc21));
+  }
+  // H(v . dloc), dloc(x) = exp(-E1) R1^T (d + x_d): the second-order terms are
+  // -E1 R1^T x_d + E1^2 dloc / 2.
+  const Mat3 SvR = skew<double>(v) * R1t;
+  K.block<3, 3>(3, 0) += SvR;
+  K.block<3, 3>(0, 3) += SvR.transpose();
+  K.block<3, 3>(3, 3) += 0.5 * (v * dloc.transpose() + dloc * v.transpose()) - v.dot(dloc) * Mat3::Identity();
+  // H(tr(B^T Q)), Q(x) = exp(-E1) Q exp(E2): E1^2 Q / 2 - E1 Q E2 + Q E2^2 / 2.
+  const Mat3 S1 = Q * B.transpose(), S2 = B.transpose() * Q;
+  K.block<3, 3>(3, 3) += 0.5 * (S1 + S1.transpose()) - S1.trace() * Mat3::Identity();
+  K.block<3, 3>(6, 6) += 0.5 * (S2 + S2.transpose()) - S2.trace() * Mat3::Identity();
+  Mat3 M12;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      M12(i, j) = -(B.transpose() * skew<double>(Vec3(Vec3::Unit(i))) * Q * skew<double>(Vec3(Vec3::Unit(j)))).trace();
+  K.block<3, 3>(3, 6) += M12;
+  K.block<3, 3>(6, 3) += M12.transpose();
+  // The right perturbation of the rotations: skew(g)/2 on their diagonal blocks.
+  for (int b = 0; b < 2; ++b) K.block<3, 3>(3 + 3 * b, 3 + 3 * b) += 0.5 * skew<double>(Vec3(g.segment<3>(3 + 3 * b).transpose()));
+  return K;
 }
 
 }  // namespace latticedyn

@@ -102,22 +102,24 @@ class SuperTrussMap {
   std::vector<int> internal_;
 };
 
-/// Rotation data of one internal node at a state, in double: angles y = (phi, psi, theta), the
-/// Cardan matrix C, its tangent T (body rate C^T C' = skew(T y')), the angles' Jacobian Y
-/// (y' = Y dq), the node's angular-velocity Jacobian Jw = C^T E1 + T Y (E1 dq = F^T w1), and the
-/// angle rates y', y'' of the current motion.
+/// Rotation data of one internal node at a state, in double: the sines and cosines of its angles
+/// phi and psi (T depends on no other), the Cardan matrix C, its tangent T (body rate C^T C' =
+/// skew(T y')) and T's rate, the angles' Jacobian Y (y' = Y dq), the node's angular-velocity
+/// Jacobian Jw = C^T E1 + T Y (E1 dq = F^T w1), the angle rates y', y'' of the current motion, and
+/// A = R1 F (R_n = A C).
 struct InternalRotation {
-  Vec3 y, ydot, yddot;
-  Mat3 C, T, A;  ///< A = R1 F
+  double sphi, cphi, spsi, cpsi;
+  Vec3 ydot, yddot;
+  Mat3 C, T, Tdot, A;
   Mat312 Y, Jw;
+  Vec3 m;                              ///< the main beam's tangent in A (theta, psi its direction)
+  Eigen::Matrix<double, 3, 9> dm;      ///< dm/d(d, delta_1, delta_2)
 };
 
-/// What the tangents need beyond InternalRotation: the derivatives of y' and y'' under a right
-/// perturbation of the state at fixed rates (dydot, dyddot = d(y', y'')/d eps), and the second
-/// derivatives of the angles in the variables (d, delta_1, delta_2) as HyperDual<9> numbers.
+/// What the tangents of the rotary inertia need beyond InternalRotation: the derivatives of y' and
+/// y'' under a right perturbation of the state at fixed rates (d(y', y'')/d eps).
 struct InternalRotationTangent {
   Mat312 dydot, dyddot;
-  std::array<HyperDual<9>, 3> y;
 };
 
 /// Evaluations of the map's internal rotations at the slots' state.
@@ -125,6 +127,15 @@ void internal_rotations(const SuperTrussMap& map, std::span<const SlotState<doub
                         std::vector<InternalRotation>& out);
 void internal_rotation_tangents(const SuperTrussMap& map, std::span<const SlotState<double>> s,
                                 std::vector<InternalRotationTangent>& out);
+
+/// The angles' second derivatives against weights: K = d/d eps [sum_n c_n . y_n'(x (+) eps)] as a
+/// matrix over the variables x = (d, delta_1, delta_2) on both sides (rows: the virtual
+/// displacement, columns: eps): the symmetric Hessian of sum_n c_n . y_n plus skew(g)/2 on each
+/// rotation's diagonal block, g its gradient. In closed form: every angle is a function of the
+/// relative pose (R1^T d, Q = R1^T R2), on which the weights act linearly, so their second
+/// derivatives reduce to those of v . R1^T d and tr(B^T Q) and the angle functions' own Hessians.
+Mat9 contracted_angle_hessian(const SuperTrussMap& map, std::span<const SlotState<double>> s,
+                              const std::vector<InternalRotation>& rot, const std::vector<Vec3>& c);
 
 // ---------------------------------------------------------------------------------------------
 

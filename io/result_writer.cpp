@@ -63,8 +63,8 @@ struct ResultWriter::Impl {
   std::vector<Output> outputs;                     // declared after `file`: closed before it
   int steps = 0;                                   // completed appends
   std::optional<io::XdmfDocument> document;        // none while nothing is drawn
-  std::chrono::steady_clock::time_point xdmf_written{};
-  bool xdmf_stale = false;
+  std::chrono::steady_clock::time_point flushed{};  // the last flush of the .h5 (and XDMF rewrite)
+  bool unflushed = false;
   std::FILE* probes = nullptr;
   bool closed = false;
   bool broken = false;  // an append failed while writing the .h5
@@ -84,6 +84,7 @@ struct ResultWriter::Impl {
   void create_viz();
   void create_state(hsize_t size);
   void compute_step(const ModelState& state);
+  void flush();
   void write_probe_header();
   void write_probe_row(const ModelState& state);
   void add(hid_t group, const std::string& name, std::vector<hsize_t> row, const char* units,
@@ -437,37 +438,47 @@ void ResultWriter::append(const ModelState& state) {
       o.fill(state, row.data());
       o.series.write(step, row.data(), w.ctx);
     }
-    w.ctx.check(H5Fflush(w.file.get(), H5F_SCOPE_GLOBAL), "flush the file");
   } catch (...) {
     w.broken = true;
     throw;
   }
   ++w.steps;
-
-  if (w.document) {
-    w.document->add_step(state.time());
-    // Rewriting the whole XDMF costs in proportion to the steps so far: after the first few
-    // steps it is rewritten at most once a second (and on close), so a run that stops early
-    // leaves an XDMF at most a second behind the .h5, which always has every step.
-    const auto now = std::chrono::steady_clock::now();
-    if (w.steps <= 16 || now - w.xdmf_written >= std::chrono::seconds(1)) {
-      io::replace_file(w.xdmf, w.document->text());
-      w.xdmf_written = now;
-      w.xdmf_stale = false;
-    } else {
-      w.xdmf_stale = true;
-    }
-  }
+  w.unflushed = true;
+  if (w.document) w.document->add_step(state.time());
+  // A flush writes every dataset's current chunk and the file's metadata, and the XDMF is
+  // rewritten whole: after the first few steps both happen at most once a second (and on close),
+  // so a run that is killed leaves a file at most a second behind, whose XDMF names only steps
+  // the .h5 has.
+  const auto now = std::chrono::steady_clock::now();
+  if (w.steps <= 16 || now - w.flushed >= std::chrono::seconds(1)) w.flush();
   w.write_probe_row(state);
+}
+
+void ResultWriter::Impl::flush() {
+  try {
+    ctx.check(H5Fflush(file.get(), H5F_SCOPE_GLOBAL), "flush the file");
+  } catch (...) {
+    broken = true;
+    throw;
+  }
+  if (document) io::replace_file(xdmf, document->text());
+  flushed = std::chrono::steady_clock::now();
+  unflushed = false;
 }
 
 void ResultWriter::close() {
   if (!impl_ || impl_->closed) return;
   Impl& w = *impl_;
   w.closed = true;
-  if (w.document && w.xdmf_stale && !w.broken) io::replace_file(w.xdmf, w.document->text());
   const io::QuietHdf5Errors quiet;
   bool ok = true;
+  if (w.unflushed && !w.broken) {
+    try {
+      w.flush();
+    } catch (const std::exception&) {
+      ok = false;
+    }
+  }
   for (auto& o : w.outputs) ok = o.series.close() >= 0 && ok;
   ok = w.file.reset() >= 0 && ok;
   const std::string h5_error = ok ? "" : io::hdf5_error_stack();

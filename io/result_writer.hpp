@@ -43,8 +43,9 @@ struct ResultWriterOptions {
 ///
 /// A time series whose row would be empty (no constraints, no rotation blocks, ...) is not
 /// created. Time series are chunked along time and extended by one entry per append; the file is
-/// flushed after each append and the XDMF replaced atomically afterwards, so a run that stops
-/// (crash, kill, solver failure) leaves readable files holding every completed append.
+/// flushed after each of the first 16 appends and then at most once a second (and on close), the
+/// XDMF replaced atomically after each flush, so a run that stops (crash, kill) leaves readable
+/// files holding every append up to a second before; a solver failure closes them complete.
 ///
 /// Serial HDF5: use the writer on one MPI rank (the rank the state is gathered to). Not
 /// thread-safe. The Model must outlive the writer. A moved-from writer may only be destroyed or
@@ -63,8 +64,8 @@ class ResultWriter {
   ResultWriter(const ResultWriter&) = delete;
   ResultWriter& operator=(const ResultWriter&) = delete;
 
-  /// Writes one output time: extends every time series by one entry, flushes the HDF5 file,
-  /// then replaces the XDMF and appends (and flushes) one CSV row. The first call fixes the
+  /// Writes one output time: extends every time series by one entry, flushes the HDF5 file and
+  /// then replaces the XDMF when due (above), and appends (and flushes) one CSV row. The first call fixes the
   /// visualisation geometry (points per element). Throws std::runtime_error on an I/O failure or
   /// when an element's number of axis points changes (nothing is written then),
   /// std::invalid_argument for a state of another model, std::logic_error after close() or after

@@ -75,13 +75,17 @@ GeneralizedAlphaIntegrator::GeneralizedAlphaIntegrator(SystemAssembler& sa, Dyna
   const double force_scale = std::max(1.0, sa_.characteristic_mass() * std::max(1.0, sa_.model().gravity.norm()));
   // rtol 1e-8: the Newton error stays below the time-discretisation error (double pendulum:
   // energy drift 3.9e-5 at 1e-8, 5.7e-5 at 1e-6, 4.0e-5 at 1e-10; docs/performance.md).
-  PetscCallAbort(comm, SNESSetTolerances(snes, 1e-10 * force_scale, 1e-8, 1e-14, 25, 100000));
+  // atol: the residual's round-off floor (stiff members), where a Newton iteration that starts
+  // from the predictor would otherwise chase rtol below what double precision can represent.
+  PetscCallAbort(comm, SNESSetTolerances(snes, std::max(1e-10 * force_scale, sa_.residual_floor()), 1e-8, 1e-14, 25, 100000));
   // Round-off floor: the residual of stiff members cannot fall below machine precision times their
   // forces; the typical stiffness over a millimetre measures it where loads and weights are small.
   PetscCallAbort(comm, set_roundoff_convergence_test(snes, std::max(force_scale, 1e-3 * sa_.characteristic_stiffness())));
   PetscCallAbort(comm, SNESGetKSP(snes, &ksp));
   PetscCallAbort(comm, set_direct_solver_defaults(ksp));
   if (settings_.jacobian_reuse > 1) PetscCallAbort(comm, SNESMonitorSet(snes, watch_contraction, this, nullptr));
+  PetscCallAbort(comm, PetscOptionsGetBool(nullptr, nullptr, "-dyn_predictor", &predictor_, nullptr));
+  if (predictor_) PetscCallAbort(comm, SNESSetComputeInitialGuess(snes, predict, this));
   PetscCallAbort(comm, TSSetFromOptions(ts_));  // -ts_, -snes_, -ksp_, -pc_ options win
 }
 
@@ -174,6 +178,23 @@ PetscErrorCode GeneralizedAlphaIntegrator::watch_contraction(SNES, PetscInt it, 
   // less than half, the next iteration takes a fresh Jacobian (and keeps the step size).
   if (it > 0 && fnorm > kChordContraction * self->last_fnorm_) self->reuse_count_ = self->settings_.jacobian_reuse;
   self->last_fnorm_ = fnorm;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode GeneralizedAlphaIntegrator::predict(SNES, Vec U1, void* ctx) {
+  auto* self = static_cast<GeneralizedAlphaIntegrator*>(ctx);
+  PetscReal am, af, gamma, beta, dt;
+  Vec U0, V0;
+  PetscFunctionBeginUser;
+  // TSALPHA2 starts Newton from U_1 = U_0, where the residual is the whole inertia of the step;
+  // the Taylor guess U_0 + h V_0 + h^2/2 A_0 (A_0 estimated from the last step's velocity change)
+  // starts it near the solution. Not in PETSc's start-up Euler steps (their U_0 is internal).
+  PetscCall(TSAlpha2GetParams(self->ts_, &am, &af, &gamma, &beta));
+  if (am == 1.0 && af == 1.0 && gamma == 1.0 && beta == 0.5) PetscFunctionReturn(0);
+  PetscCall(TSGetTimeStep(self->ts_, &dt));
+  PetscCall(TS2GetSolution(self->ts_, &U0, &V0));
+  PetscCall(VecWAXPY(U1, dt, V0, U0));
+  PetscCall(VecAXPY(U1, 0.5 * dt * dt, self->A_est_));
   PetscFunctionReturn(0);
 }
 

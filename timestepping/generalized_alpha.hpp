@@ -35,6 +35,7 @@ class GeneralizedAlphaIntegrator {
                                    Mat P, void* ctx);
   static PetscErrorCode post_step(TS ts);
   static PetscErrorCode watch_contraction(SNES snes, PetscInt it, PetscReal fnorm, void* ctx);
+  static PetscErrorCode predict(SNES snes, Vec U1, void* ctx);
   static PetscErrorCode monitor(TS ts, PetscInt step, PetscReal t, Vec U, void* ctx);
   /// The stage's end-of-step state Uc = U0 + (Ua - U0)/alpha_f, its time, and the settings.
   PetscErrorCode stage(PetscReal ta, Vec Ua, Vec Va, Vec Aa, EvaluationPoint* at, EvaluationSettings* how,
@@ -46,6 +47,7 @@ class GeneralizedAlphaIntegrator {
   int reuse_count_ = 0;                                 // Newton iterations it has served
   double last_fnorm_ = 0.0;                             // residual norm of the last Newton iterate
   long jacobians_ = 0;                                  // Jacobians assembled in the run
+  PetscBool predictor_ = PETSC_TRUE;                    // -dyn_predictor: Newton starts from a Taylor guess
   TS ts_ = nullptr;
   Mat J_ = nullptr;
   Vec F_ = nullptr, Uc_ = nullptr, V_prev_ = nullptr, A_est_ = nullptr, A_scaled_ = nullptr;

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <limits>
 
 namespace latticedyn {
 
@@ -80,6 +81,10 @@ PetscErrorCode StaticSolver::form_jacobian(SNES snes, Vec U, Mat J, Mat, void* c
     if (it == 0 || self->initial_residual_ <= 0.0) self->initial_residual_ = fnorm;
     const double ratio = self->initial_residual_ > 0.0 ? std::min(1.0, fnorm / self->initial_residual_) : 1.0;
     mu = ratio * self->settings_.regularization * self->sa_.characteristic_stiffness() / self->sa_.characteristic_mass();
+    // Below round-off against the stiffness, mu M no longer changes K + mu M: drop it, and with it
+    // the mass matrix (the elements then evaluate their tangents at rest, K alone).
+    if (mu * self->sa_.characteristic_mass() <= std::numeric_limits<double>::epsilon() * self->sa_.characteristic_stiffness())
+      mu = 0.0;
   }
   PetscCall(self->sa_.jacobian(EvaluationPoint{U, nullptr, nullptr, nullptr, t, t}, self->evaluation(), 1.0, 0.0, mu, J));
   PetscFunctionReturn(0);

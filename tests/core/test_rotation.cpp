@@ -188,5 +188,46 @@ TEST(Rotation, CardanTangentAndRateMatchFiniteDifferences) {
   EXPECT_LT(max_abs(cardan_zyx_tangent_rate(a, rate) - Tdot_fd), 1e-9);
 }
 
+TEST(Rotation, CardanTangentDerivativesMatchFiniteDifferences) {
+  const Vec3 a(0.4, 0.7, -2.1);
+  const double h = 1e-5;
+  Mat3 dT[2], ddT[3];
+  cardan_zyx_tangent_derivatives(std::sin(a(0)), std::cos(a(0)), std::sin(a(1)), std::cos(a(1)), dT, ddT);
+  for (int k = 0; k < 3; ++k) {  // T does not depend on theta_z
+    const Vec3 e = h * Vec3::Unit(k);
+    const Mat3 fd = (cardan_zyx_tangent<double>(a + e) - cardan_zyx_tangent<double>(a - e)) / (2 * h);
+    EXPECT_LT(max_abs((k < 2 ? dT[k] : Mat3::Zero()) - fd), 1e-9) << k;
+  }
+  // Second derivatives from central differences of the first.
+  auto first = [&](const Vec3& x, int k) {
+    Mat3 d[2], dd[3];
+    cardan_zyx_tangent_derivatives(std::sin(x(0)), std::cos(x(0)), std::sin(x(1)), std::cos(x(1)), d, dd);
+    return d[k];
+  };
+  const Vec3 e0 = h * Vec3::UnitX(), e1 = h * Vec3::UnitY();
+  EXPECT_LT(max_abs(ddT[0] - (first(a + e0, 0) - first(a - e0, 0)) / (2 * h)), 1e-9);
+  EXPECT_LT(max_abs(ddT[1] - (first(a + e1, 0) - first(a - e1, 0)) / (2 * h)), 1e-9);
+  EXPECT_LT(max_abs(ddT[1] - (first(a + e0, 1) - first(a - e0, 1)) / (2 * h)), 1e-9);
+  EXPECT_LT(max_abs(ddT[2] - (first(a + e1, 1) - first(a - e1, 1)) / (2 * h)), 1e-9);
+}
+
+// d(T^-T m)/dphi in closed form against central differences, on both sides of the switch from the
+// series of c3 to its closed form, and T^-T m without the matrix against the matrix.
+TEST(Rotation, TangentInverseTransposeDerivativeMatchesFiniteDifferences) {
+  const Vec3 m(0.3, -1.2, 0.8);
+  for (const double size : {1e-3, 0.05, 0.11, 0.8, 2.5}) {
+    const Vec3 phi = size * Vec3(0.6, -0.48, 0.64);
+    EXPECT_LT((tangent_inverse_transpose_times(phi, m) - tangent_operator_inverse<double>(phi).transpose() * m).norm(), 1e-15);
+    Mat3 fd;
+    const double h = 1e-6;
+    for (int k = 0; k < 3; ++k) {
+      const Vec3 e = h * Vec3::Unit(k);
+      fd.col(k) = (tangent_operator_inverse<double>(Vec3(phi + e)).transpose() * m -
+                   tangent_operator_inverse<double>(Vec3(phi - e)).transpose() * m) / (2 * h);
+    }
+    EXPECT_LT(max_abs(tangent_inverse_transpose_derivative(phi, m) - fd), 1e-8) << "|phi| = " << size;
+  }
+}
+
 }  // namespace
 }  // namespace latticedyn

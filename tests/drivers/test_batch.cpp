@@ -176,7 +176,9 @@ measures:
   ASSERT_EQ(b.size(), 2u);
   for (std::size_t i = 0; i < 2; ++i) {
     EXPECT_EQ(b[i].at("status"), "ok");
-    EXPECT_GT(std::stod(b[i].at("newton_iterations")), std::stod(a[i].at("newton_iterations")));
+    // The dynamics start at the equilibrium: the predictor meets the Newton tolerance there, so
+    // the steps may need no iteration beyond the statics'.
+    EXPECT_GE(std::stod(b[i].at("newton_iterations")), std::stod(a[i].at("newton_iterations")));
     EXPECT_NEAR(std::stod(a[i].at("node_a_z")), std::stod(b[i].at("node_a_z")), 1e-7);
   }
   EXPECT_LT(std::stod(b[1].at("node_a_z")), std::stod(b[0].at("node_a_z")));

@@ -182,6 +182,23 @@ TEST(SuperTruss, ElasticTangentEqualsSecondOrderAutomaticDifferentiation) {
   }
 }
 
+// A tangent at rest (statics without regularization) skips the rate terms: K must not change.
+TEST(SuperTruss, TangentAtRestKeepsTheStiffness) {
+  const TrussSectionSpec spec = rectangle(4);
+  const SuperTrussElement e(spec, build_truss_geometry(spec));
+  std::mt19937 rng(47);
+  auto s = deformed_state(rng, spec.length);
+  for (auto& x : s) x.vel.setZero(), x.acc.setZero();
+  ElementContext ctx{Vec3(0, 0, -9.81), 0.0};
+  ElementTangents full, rest;
+  e.tangents(s, ctx, full);
+  ctx.at_rest = true;
+  e.tangents(s, ctx, rest);
+  EXPECT_LT((full.K - rest.K).cwiseAbs().maxCoeff(), 1e-13 * full.K.cwiseAbs().maxCoeff());
+  EXPECT_LT((full.residual - rest.residual).cwiseAbs().maxCoeff(), 1e-13 * full.residual.cwiseAbs().maxCoeff());
+  EXPECT_GT(full.M.cwiseAbs().maxCoeff(), 0.0);
+}
+
 // Nearly no stiffness: the tangents are the inertia's (translational and rotary, through the
 // map's rotations), checked tightly against finite differences at fast, large-rotation motions.
 TEST(SuperTruss, InertialTangentsMatchFiniteDifferences) {

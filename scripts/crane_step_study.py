@@ -1,0 +1,177 @@
+#!/usr/bin/python3
+"""Step size and Jacobian reuse against accuracy for the crane's maneuvers (thesis 8.3).
+
+Runs each maneuver with a reference setting (h = 0.01 s, a fresh Jacobian every Newton iteration)
+and with the variants asked for, on one core, and compares with the reference at common output
+times:
+  - the load's path (probe load.1): the largest distance from the reference path;
+  - rope forces: per rope element, the largest |N - N_ref| over the run relative to its largest
+    reference force (pointwise in time), and the error of the largest force over the run (the
+    peak a rope is sized for); the worst rope element is reported for each;
+  - member forces (every drawn member: the super truss members, strut ties, rope elements): the
+    largest |N - N_ref| relative to the largest reference member force.
+Writes <out>/step_study.csv and step_study.md (a table per maneuver) and step_study.png.
+
+  /usr/bin/python3 scripts/crane_step_study.py --out docs/crane \
+      --maneuvers lifting luffing slewing combined --variants 0.05:50 0.1:50 0.2:50 0.1:1
+Variants are h:reuse[:rho_infinity]; the reference runs once per maneuver and is kept in
+build/step_study/ (delete it to recompute).
+"""
+import argparse
+import csv
+import os
+import re
+import subprocess
+import sys
+
+import h5py
+import numpy as np
+import yaml
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+SUMMARY = re.compile(r"dynamics completed: (\d+) steps.*?, (\d+) Newton iterations.*?, (\d+) Jacobians.*?wall ([0-9.e+]+) s")
+
+
+def maneuver_solver(path):
+    """The solver section a maneuver file uses (its own or its base's: a top-level key replaces the base's)."""
+    with open(path) as f:
+        doc = yaml.safe_load(f)
+    if "solver" in doc:
+        return doc["solver"]
+    return maneuver_solver(os.path.join(os.path.dirname(path), doc["base"]))
+
+
+def run(maneuver, h, reuse, rho, work, binary, interval, full):
+    name = f"{maneuver}{'_full' if full else ''}_h{h}_r{reuse}" + (f"_rho{rho}" if rho is not None else "")
+    folder = os.path.join(work, name)
+    os.makedirs(folder, exist_ok=True)
+    model = os.path.join(folder, name + ".yaml")
+    base = os.path.join(ROOT, "examples", "crane", f"{maneuver}{'_full' if full else ''}.yaml")
+    solver = maneuver_solver(base)
+    solver["dynamics"].update(time_step=h, jacobian_reuse=reuse)
+    if rho is not None:
+        solver["dynamics"]["rho_infinity"] = rho
+    with open(model, "w") as f:
+        yaml.safe_dump({"base": base, "solver": solver,
+                        "output": {"directory": folder, "name": "run", "interval": interval, "probes": ["load.1"]}},
+                       f, default_flow_style=None)
+    h5 = os.path.join(folder, "run.h5")
+    log = os.path.join(folder, "run.log")
+    if not os.path.exists(h5) or not os.path.exists(log):
+        env = dict(os.environ, OMP_NUM_THREADS="1")
+        out = subprocess.run([binary, "run", model, "-assembly_threads", "1"], capture_output=True, text=True, env=env)
+        with open(log, "w") as f:
+            f.write(out.stdout + out.stderr)
+        if out.returncode != 0:
+            sys.exit(f"{model}: exit {out.returncode}\n{out.stdout[-2000:]}\n{out.stderr[-2000:]}")
+    text = open(log).read()
+    m = SUMMARY.search(text)
+    steps, newton, jac, wall = (int(m.group(1)), int(m.group(2)), int(m.group(3)), float(m.group(4)))
+    return h5, dict(steps=steps, newton=newton, jacobians=jac, wall=wall)
+
+
+def load(h5):
+    with h5py.File(h5, "r") as f:
+        t = f["time"][:]
+        types = [x.decode() for x in f["model/element_types"][:]]
+        ropes = [i for i, x in enumerate(types) if x == "rope"]
+        axial = f["elements/axial_force"][:]
+        members = f["viz/axial_force"][:]
+    with open(h5.replace(".h5", "_probes.csv")) as f:
+        rows = list(csv.DictReader(f))
+    load_path = np.array([[float(r["load.1.x"]), float(r["load.1.y"]), float(r["load.1.z"])] for r in rows])
+    return t, load_path, axial[:, ropes], members
+
+
+def compare(ref, run):
+    t0, p0, r0, m0 = ref
+    t1, p1, r1, m1 = run
+    # Common output times (the coarser run's); times agree to round-off.
+    idx0 = [int(np.argmin(np.abs(t0 - t))) for t in t1]
+    keep = [k for k, i in enumerate(idx0) if abs(t0[i] - t1[k]) < 1e-9]
+    i0 = [idx0[k] for k in keep]
+    path = np.max(np.linalg.norm(p1[keep] - p0[i0], axis=1))
+    peak = np.maximum(np.max(np.abs(r0), axis=0), 1e-300)
+    rope = np.max(np.max(np.abs(r1[keep] - r0[i0]), axis=0) / peak)
+    rope_peak = np.max(np.abs(np.max(np.abs(r1), axis=0) - peak) / peak)
+    member = np.max(np.abs(m1[keep] - m0[i0])) / max(np.max(np.abs(m0)), 1e-300)
+    return path, rope, rope_peak, member
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--out", default=os.path.join(ROOT, "docs", "crane"))
+    ap.add_argument("--maneuvers", nargs="+", default=["lifting", "luffing", "slewing", "combined"])
+    ap.add_argument("--variants", nargs="+", default=["0.05:50", "0.1:50", "0.2:50", "0.05:1", "0.1:1"])
+    ap.add_argument("--reference", default="0.01:1")
+    ap.add_argument("--interval", type=float, default=0.2, help="output interval of every run (s)")
+    ap.add_argument("--full", action="store_true", help="the full crane instead of the reduced one")
+    ap.add_argument("--work", default=os.path.join(ROOT, "build", "step_study"))
+    ap.add_argument("--binary", default=os.path.join(ROOT, "build", "drivers", "latticedyn"))
+    args = ap.parse_args()
+
+    def parse(v):
+        parts = v.split(":")
+        return float(parts[0]), int(parts[1]), (float(parts[2]) if len(parts) > 2 else None)
+
+    rows = []
+    for man in args.maneuvers:
+        h, r, rho = parse(args.reference)
+        ref_h5, ref_cost = run(man, h, r, rho, args.work, args.binary, args.interval, args.full)
+        ref = load(ref_h5)
+        rows.append(dict(maneuver=man, h=h, reuse=r, rho=rho or "", path_mm=0.0, rope_pct=0.0, peak_pct=0.0,
+                         member_pct=0.0, **ref_cost))
+        for v in args.variants:
+            h, r, rho = parse(v)
+            h5, cost = run(man, h, r, rho, args.work, args.binary, args.interval, args.full)
+            path, rope, rope_peak, member = compare(ref, load(h5))
+            rows.append(dict(maneuver=man, h=h, reuse=r, rho=rho or "", path_mm=1e3 * path, rope_pct=100 * rope,
+                             peak_pct=100 * rope_peak, member_pct=100 * member, **cost))
+            print(f"{man} h={h} reuse={r}: load path {1e3 * path:.3f} mm, ropes {100 * rope:.3f} % "
+                  f"(peak {100 * rope_peak:.3f} %), members {100 * member:.3f} %, {cost['wall']:.2f} s", flush=True)
+    os.makedirs(args.out, exist_ok=True)
+    stem = os.path.join(args.out, "step_study" + ("_full" if args.full else ""))
+    keys = ["maneuver", "h", "reuse", "rho", "steps", "newton", "jacobians", "wall", "path_mm", "rope_pct", "peak_pct",
+            "member_pct"]
+    with open(stem + ".csv", "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=keys)
+        w.writeheader()
+        for row in rows:
+            w.writerow({k: row[k] for k in keys})
+    with open(stem + ".md", "w") as f:
+        f.write("| maneuver | h (s) | reuse | rho_inf | steps | Newton | Jacobians | wall (s) | load path (mm) | "
+                "rope forces (%) | rope peak (%) | members (%) |\n")
+        f.write("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n")
+        for row in rows:
+            f.write(f"| {row['maneuver']} | {row['h']} | {row['reuse']} | {row['rho'] or 0.8} | {row['steps']} | "
+                    f"{row['newton']} | {row['jacobians']} | {row['wall']:.2f} | {row['path_mm']:.3f} | "
+                    f"{row['rope_pct']:.3f} | {row['peak_pct']:.3f} | {row['member_pct']:.3f} |\n")
+    try:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        fig, ax = plt.subplots(1, 2, figsize=(10, 4))
+        for man in args.maneuvers:
+            sel = [r for r in rows if r["maneuver"] == man and r["path_mm"] > 0 and r["reuse"] > 1]
+            sel.sort(key=lambda r: r["h"])
+            if not sel:
+                continue
+            ax[0].loglog([r["h"] for r in sel], [r["path_mm"] for r in sel], "o-", label=man)
+            ax[1].loglog([r["h"] for r in sel], [r["rope_pct"] for r in sel], "o-", label=man + " (pointwise)")
+            ax[1].loglog([r["h"] for r in sel], [max(r["peak_pct"], 1e-4) for r in sel], "s--", label=man + " (peak)")
+        ax[0].axhline(2.0, color="k", ls="--", lw=0.8)
+        ax[1].axhline(0.5, color="k", ls="--", lw=0.8)
+        ax[0].set(xlabel="time step h (s)", ylabel="load path error (mm)", title="load path vs. h = 0.01 s, fresh Jacobians")
+        ax[1].set(xlabel="time step h (s)", ylabel="rope force error (% of peak)", title="rope forces")
+        for a in ax:
+            a.grid(True, which="both", alpha=0.3)
+            a.legend()
+        fig.tight_layout()
+        fig.savefig(stem + ".png", dpi=110)
+    except ImportError:
+        pass
+    print(f"wrote {stem}.csv, .md, .png")
+
+
+if __name__ == "__main__":
+    main()
