@@ -113,7 +113,7 @@ SystemAssembler::~SystemAssembler() {
 void SystemAssembler::estimate_scales() {
   // Mean diagonal mass and stiffness of the translational DoFs at the initial state (state_ holds
   // every block's initial state here), over all elements: the same numbers on every rank.
-  double mass = 0.0, stiffness = 0.0;
+  double mass = 0.0, stiffness = 0.0, load2 = 0.0;
   int count = 0;
   const ElementContext ctx{model_.gravity, 0.0};
   ElementTangents t;
@@ -125,15 +125,26 @@ void SystemAssembler::estimate_scales() {
     entry.element->tangents(s, ctx, t);
     int o = 0;
     for (std::size_t k = 0; k < kinds.size(); ++k) {
-      if (kinds[k] == SlotKind::translation)
+      if (kinds[k] == SlotKind::translation) {
         for (int i = 0; i < 3; ++i) {
           mass += std::abs(t.M(o + i, o + i));
           stiffness += std::abs(t.K(o + i, o + i));
           ++count;
         }
+        // This slot's share of the element's weight: its rows of M times gravity on every
+        // translation slot.
+        Vec3 weight = Vec3::Zero();
+        int oj = 0;
+        for (std::size_t kj = 0; kj < kinds.size(); ++kj) {
+          if (kinds[kj] == SlotKind::translation) weight += t.M.block<3, 3>(o, oj) * model_.gravity;
+          oj += slot_size(kinds[kj]);
+        }
+        load2 += weight.squaredNorm();
+      }
       o += slot_size(kinds[k]);
     }
   }
+  for (const NodalLoad& l : model_.loads) load2 += l.force.squaredNorm();
   if (count > 0) {
     mass_scale_ = mass / count;
     stiffness_scale_ = stiffness / count;
@@ -143,6 +154,8 @@ void SystemAssembler::estimate_scales() {
     if (b.kind == SlotKind::translation) box.extend(b.position0);
   length_scale_ = box.isEmpty() ? 1.0 : std::max(box.diagonal().norm(), 1e-3);
   if (!(mass_scale_ > 0)) mass_scale_ = 1.0;
+  load_scale_ = std::sqrt(load2);
+  if (!(load_scale_ > 0)) load_scale_ = mass_scale_;  // no weight, no loads: the force of 1 m/s^2
   if (!(stiffness_scale_ > 0)) stiffness_scale_ = mass_scale_ * std::max(model_.gravity.norm(), 1.0);
 }
 

@@ -79,6 +79,9 @@ class SystemAssembler {
   /// Typical diagonal mass and stiffness at the initial state, for scaling constraint rows.
   double characteristic_mass() const { return mass_scale_; }
   double characteristic_stiffness() const { return stiffness_scale_; }
+  /// The model's loads as one force: the 2-norm of its weight, node by node, and its nodal forces
+  /// (at full scale); without either, the characteristic mass times 1 m/s^2.
+  double characteristic_load() const { return load_scale_; }
   /// Size of the model: the diagonal of the box around its initial translation coordinates.
   double characteristic_length() const { return length_scale_; }
   /// The residual's round-off floor, as an absolute force: a stiffness k moves forces by about
@@ -111,6 +114,7 @@ class SystemAssembler {
   double mass_scale_ = 1.0;
   double stiffness_scale_ = 1.0;
   double length_scale_ = 1.0;
+  double load_scale_ = 1.0;
   // Expensive elements are evaluated on threads_ threads into buffers first (element_loop.hpp);
   // cheap ones inline, where a thread would cost more than it saves.
   int threads_ = 1;

@@ -17,4 +17,11 @@ std::vector<Vec3> Element::axis_points(std::span<const SlotState<double>> state,
   return pts;
 }
 
+void Element::output(std::span<const SlotState<double>> state, const ElementContext& ctx, ElementOutput& out) const {
+  out.energy = energy(state, ctx);
+  out.axial_force = axial_force(state, ctx);
+  out.polylines = axis_polylines(state, ctx);
+  out.polyline_axial_forces = polyline_axial_forces(state, ctx);
+}
+
 }  // namespace latticedyn

@@ -50,6 +50,14 @@ struct ElementEnergy {
   double strain = 0.0;             ///< elastic energy plus any acceleration-like stored energy
 };
 
+/// What the results record of an element at one output time.
+struct ElementOutput {
+  ElementEnergy energy;
+  std::optional<double> axial_force;           ///< bar-like elements (tension positive)
+  std::vector<std::vector<Vec3>> polylines;    ///< axis_polylines
+  std::vector<double> polyline_axial_forces;   ///< empty: every polyline drawn with axial_force
+};
+
 /// Residual and tangents in the slots' velocity variables, r = M dq_dot + F (thesis C-6, C-87):
 /// K = dr/dq (rotations perturbed as R exp(skew(dtheta))), C = dr/d(dq), M = dr/d(dq_dot).
 struct ElementTangents {
@@ -102,6 +110,11 @@ class Element {
                                                     const ElementContext& /*ctx*/) const {
     return {};
   }
+  /// All of ElementOutput in one evaluation, into `out` (its vectors keep their capacity from call
+  /// to call). By default from energy(), axial_force(), axis_polylines() and
+  /// polyline_axial_forces(); elements whose outputs share costly work (the co-rotational frame,
+  /// a super truss's node poses) compute it once.
+  virtual void output(std::span<const SlotState<double>> state, const ElementContext& ctx, ElementOutput& out) const;
 };
 
 }  // namespace latticedyn

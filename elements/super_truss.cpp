@@ -315,25 +315,52 @@ void SuperTrussElement::tangents(std::span<const SlotState<double>> s, const Ele
 }
 
 ElementEnergy SuperTrussElement::energy(std::span<const SlotState<double>> s, const ElementContext& ctx) const {
+  ElementOutput out;
+  output(s, ctx, out);
+  return out.energy;
+}
+
+void SuperTrussElement::output(std::span<const SlotState<double>> s, const ElementContext& ctx, ElementOutput& out) const {
   const EndFrames f{s.data()};
   Vec12 dq;
   dq << s[0].vel, s[1].vel, s[2].vel, s[3].vel;
-  ElementEnergy e;
+  ElementEnergy& e = out.energy;
+  e = ElementEnergy{};
   for (const auto& [a, b] : mass_points_) e.kinetic += 0.5 * (jacobian(a, f) * dq).dot(jacobian(b, f) * dq);
   for (int i = 0; i < 2; ++i) e.kinetic += 0.5 * s[2 * i + 1].vel.dot(end_rotary_[i] * s[2 * i + 1].vel);
-  std::vector<InternalRotation> rot;
-  internal_rotations(map_, s, rot);
-  for (std::size_t k = 0; k < rot.size(); ++k) {
-    const Vec3 w = rot[k].Jw * dq;
-    e.kinetic += 0.5 * w.dot(lumped_.rotary[map_.internal_nodes()[k]] * w);
-  }
   e.gravity_potential = -ctx.gravity.dot(position(weight_point_, f));
-  std::vector<Vec3> p;
-  std::vector<Mat3> R;
-  node_poses(s, p, R);
-  for (const Member& m : members_)
-    e.strain += m.beam->strain_energy<double>(Vec3(p[m.b] - p[m.a]), Mat3(R[m.a] * m.offset_a), Mat3(R[m.b] * m.offset_b));
-  return e;
+  // Node poses once, then every member's co-rotational frame once: strain energy, axial force and
+  // drawn axis from it.
+  thread_local std::vector<InternalRotation> rot;
+  internal_rotations(map_, s, rot);
+  const int nn = map_.num_nodes();
+  thread_local std::vector<Vec3> p;
+  thread_local std::vector<Mat3> R;
+  p.resize(nn);
+  R.resize(nn);
+  for (int n = 0; n < nn; ++n) {
+    const SuperTrussMap::Node& nd = map_.node(n);
+    p[n] = position(nd.point, f);
+    if (nd.end != 0) R[n] = s[nd.end == 1 ? 1 : 3].rot;
+  }
+  const std::vector<int>& internal = map_.internal_nodes();
+  for (std::size_t k = 0; k < internal.size(); ++k) {
+    const InternalRotation& o = rot[k];
+    R[internal[k]] = o.A * o.C;
+    const Vec3 w = o.Jw * dq;
+    e.kinetic += 0.5 * w.dot(lumped_.rotary[internal[k]] * w);
+  }
+  const int nm = num_members();
+  out.axial_force.reset();
+  out.polylines.resize(nm);
+  out.polyline_axial_forces.resize(nm);
+  for (int k = 0; k < nm; ++k) {
+    const Member& m = members_[k];
+    double strain;
+    m.beam->deformed_state(p[m.a], p[m.b] - p[m.a], R[m.a] * m.offset_a, R[m.b] * m.offset_b, &strain,
+                           &out.polyline_axial_forces[k], &out.polylines[k]);
+    e.strain += strain;
+  }
 }
 
 void SuperTrussElement::node_poses(std::span<const SlotState<double>> s, std::vector<Vec3>& p, std::vector<Mat3>& R) const {
@@ -341,15 +368,9 @@ void SuperTrussElement::node_poses(std::span<const SlotState<double>> s, std::ve
 }
 
 std::vector<double> SuperTrussElement::member_axial_forces(std::span<const SlotState<double>> s) const {
-  std::vector<Vec3> p;
-  std::vector<Mat3> R;
-  node_poses(s, p, R);
-  std::vector<double> out;
-  for (const Member& m : members_) {
-    const BeamProperties& b = m.beam->properties();
-    out.push_back(b.material.youngs_modulus * b.section.area * ((p[m.b] - p[m.a]).norm() - b.length) / b.length);
-  }
-  return out;
+  ElementOutput out;
+  output(s, ElementContext{}, out);
+  return out.polyline_axial_forces;
 }
 
 std::vector<Vec3> SuperTrussElement::node_velocities(std::span<const SlotState<double>> s) const {
@@ -367,19 +388,9 @@ std::vector<Vec3> SuperTrussElement::axis_points(std::span<const SlotState<doubl
 
 std::vector<std::vector<Vec3>> SuperTrussElement::axis_polylines(std::span<const SlotState<double>> s,
                                                                  const ElementContext& ctx) const {
-  std::vector<Vec3> p;
-  std::vector<Mat3> R;
-  node_poses(s, p, R);
-  std::vector<std::vector<Vec3>> out;
-  std::vector<SlotState<double>> ends(4);
-  for (const Member& m : members_) {
-    ends[0].pos = p[m.a];
-    ends[1].rot = R[m.a] * m.offset_a;
-    ends[2].pos = p[m.b];
-    ends[3].rot = R[m.b] * m.offset_b;
-    out.push_back(m.beam->axis_points(ends, ctx));
-  }
-  return out;
+  ElementOutput out;
+  output(s, ctx, out);
+  return out.polylines;
 }
 
 }  // namespace latticedyn

@@ -50,6 +50,9 @@ class SuperTrussElement final : public Element {
   }
   std::vector<std::vector<Vec3>> axis_polylines(std::span<const SlotState<double>> state,
                                                 const ElementContext& ctx) const override;
+  /// Energy, the members' axes and axial forces from one evaluation of the node poses and of each
+  /// member's co-rotational frame.
+  void output(std::span<const SlotState<double>> state, const ElementContext& ctx, ElementOutput& out) const override;
 
   const SuperTrussMap& map() const { return map_; }
   int num_nodes() const { return map_.num_nodes(); }

@@ -92,22 +92,41 @@ std::optional<double> TimoshenkoBeam::axial_force(std::span<const SlotState<doub
   return stiffness_.ea * ((s[2].pos - s[0].pos).norm() - props_.length);
 }
 
-std::vector<Vec3> TimoshenkoBeam::axis_points(std::span<const SlotState<double>> s, const ElementContext&) const {
-  const Vec3 d = s[2].pos - s[0].pos;
-  const CorotationalDeformation<double> def = corotational_deformation<double>(stiffness_, d, s[1].rot, s[3].rot);
+void TimoshenkoBeam::deformed_state(const Vec3& r1, const Vec3& d, const Mat3& R1, const Mat3& R2, double* strain,
+                                    double* axial, std::vector<Vec3>* axis) const {
+  const CorotationalDeformation<double> def = corotational_deformation<double>(stiffness_, d, R1, R2);
+  if (strain) *strain = corotational_strain_energy<double>(stiffness_, def);
+  if (axial) *axial = stiffness_.ea * def.u;
+  if (!axis) return;
   const Vec3 &a = def.th1, &b = def.th2;
-  const Mat3& Rr = def.Rr;
   const double l = d.norm();
-  std::vector<Vec3> pts;
+  axis->resize(5);
   for (int k = 0; k <= 4; ++k) {
     const double xi = k / 4.0;
     const HermiteCubic<double> h = hermite_cubic(xi, l);
     // Deflection with zero end displacements and end slopes v' = theta_z, w' = -theta_y.
     const double v = h.N[1] * a(2) + h.N[3] * b(2);
     const double w = -(h.N[1] * a(1) + h.N[3] * b(1));
-    pts.push_back(s[0].pos + xi * d + Rr.col(1) * v + Rr.col(2) * w);
+    (*axis)[k] = r1 + xi * d + def.Rr.col(1) * v + def.Rr.col(2) * w;
   }
+}
+
+std::vector<Vec3> TimoshenkoBeam::axis_points(std::span<const SlotState<double>> s, const ElementContext&) const {
+  std::vector<Vec3> pts;
+  deformed_state(s[0].pos, s[2].pos - s[0].pos, s[1].rot, s[3].rot, nullptr, nullptr, &pts);
   return pts;
+}
+
+void TimoshenkoBeam::output(std::span<const SlotState<double>> s, const ElementContext& ctx, ElementOutput& out) const {
+  const Vec3 &v1 = s[0].vel, &v2 = s[2].vel;
+  out.energy.kinetic = mass_ / 6.0 * (v1.squaredNorm() + v1.dot(v2) + v2.squaredNorm());
+  for (int k = 0; k < 2; ++k) out.energy.kinetic += 0.5 * s[1 + 2 * k].vel.dot(rotary_.asDiagonal() * s[1 + 2 * k].vel);
+  out.energy.gravity_potential = -mass_ * ctx.gravity.dot(0.5 * (s[0].pos + s[2].pos));
+  out.polylines.resize(1);
+  double axial;
+  deformed_state(s[0].pos, s[2].pos - s[0].pos, s[1].rot, s[3].rot, &out.energy.strain, &axial, &out.polylines[0]);
+  out.axial_force = axial;
+  out.polyline_axial_forces.clear();
 }
 
 }  // namespace latticedyn

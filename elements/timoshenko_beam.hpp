@@ -51,6 +51,11 @@ class TimoshenkoBeam final : public Element {
                                     const ElementContext& ctx) const override;
   /// Five points along the deformed axis (the local cubic deflection of the end rotations).
   std::vector<Vec3> axis_points(std::span<const SlotState<double>> state, const ElementContext& ctx) const override;
+  void output(std::span<const SlotState<double>> state, const ElementContext& ctx, ElementOutput& out) const override;
+  /// From one evaluation of the co-rotational frame at end 1 = r1, d = r2 - r1: the strain energy,
+  /// the axial force E A (l - L0)/L0 and the five axis points, each where asked for.
+  void deformed_state(const Vec3& r1, const Vec3& d, const Mat3& R1, const Mat3& R2, double* strain, double* axial,
+                      std::vector<Vec3>* axis) const;
 
   const BeamProperties& properties() const { return props_; }
 

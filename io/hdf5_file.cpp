@@ -145,9 +145,14 @@ Series::Series(hid_t parent, const std::string& name, std::vector<hsize_t> row, 
   write_string_attribute(ds_.get(), "units", units, ctx);
 }
 
-void Series::write(hsize_t step, const double* row, const Hdf5Context& ctx) {
-  const std::string what = "write step " + std::to_string(step) + " of '" + name_ + "'";
-  std::vector<hsize_t> dims{step + 1}, start{step}, count{1};
+void Series::append(const double* row) { pending_.insert(pending_.end(), row, row + row_size_); }
+
+void Series::write_pending(const Hdf5Context& ctx) {
+  const auto rows = static_cast<hsize_t>(pending_.size() / static_cast<std::size_t>(row_size_));
+  if (rows == 0) return;
+  const std::string what = "write steps " + std::to_string(written_) + ".." + std::to_string(written_ + rows - 1) +
+                           " of '" + name_ + "'";
+  std::vector<hsize_t> dims{written_ + rows}, start{written_}, count{rows};
   for (hsize_t d : row_) {
     dims.push_back(d);
     start.push_back(0);
@@ -159,7 +164,10 @@ void Series::write(hsize_t step, const double* row, const Hdf5Context& ctx) {
   ctx.check(H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, start.data(), nullptr, count.data(), nullptr),
             what);
   const Hid mem_space = ctx.own(H5Screate_simple(rank, count.data(), nullptr), H5Sclose, what);
-  ctx.check(H5Dwrite(ds_.get(), H5T_NATIVE_DOUBLE, mem_space.get(), file_space.get(), H5P_DEFAULT, row), what);
+  ctx.check(H5Dwrite(ds_.get(), H5T_NATIVE_DOUBLE, mem_space.get(), file_space.get(), H5P_DEFAULT, pending_.data()),
+            what);
+  written_ += rows;
+  pending_.clear();
 }
 
 }  // namespace latticedyn::io

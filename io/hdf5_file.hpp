@@ -92,14 +92,19 @@ class Series {
          const Hdf5Context& ctx);
 
   int row_size() const { return row_size_; }
-  /// Extends the time axis to step + 1 entries and writes entry `step` from `row` (row-major).
-  void write(hsize_t step, const double* row, const Hdf5Context& ctx);
+  /// Keeps the next entry (row-major `row`) until write_pending().
+  void append(const double* row);
+  /// Extends the time axis by the entries appended since the last call and writes them, all in
+  /// one HDF5 call (per-call costs, not bytes, dominate the writing of small rows).
+  void write_pending(const Hdf5Context& ctx);
   herr_t close() { return ds_.reset(); }
 
  private:
   std::string name_;
   std::vector<hsize_t> row_;
   int row_size_ = 0;
+  hsize_t written_ = 0;         // entries in the file
+  std::vector<double> pending_;  // entries appended since, row after row
   Hid ds_;
 };
 

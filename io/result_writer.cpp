@@ -72,10 +72,9 @@ struct ResultWriter::Impl {
   // Evaluated once per append, read by several outputs.
   std::optional<io::VizGeometry> viz;
   std::vector<double> axial;    // per element, NaN without an axial force
-  std::vector<std::vector<double>> polyline_axial;  // per element, per drawn member (super truss)
+  std::vector<ElementOutput> element_out;  // per element: energy, axial forces, drawn polylines
   ElementEnergy energy;
   std::vector<double> points;   // viz points, 3 per point
-  std::vector<double> points0;  // at the first append
 
   Impl(const Model& m, ResultWriterOptions o);
   ~Impl();
@@ -325,9 +324,6 @@ void ResultWriter::Impl::create_viz() {
   io::write_ints(g.get(), "element", viz->line_element(), ctx);
   add(g.get(), "points", {np, 3}, "m",
       [this](const ModelState&, double* out) { std::copy(points.begin(), points.end(), out); });
-  add(g.get(), "displacement", {np, 3}, "m", [this](const ModelState&, double* out) {
-    for (std::size_t i = 0; i < points.size(); ++i) out[i] = points[i] - points0[i];
-  });
   add(g.get(), "axial_force", {nl}, "N", [this](const ModelState&, double* out) {
     const auto& element = viz->line_element();
     const auto& polyline = viz->line_polyline();
@@ -335,8 +331,8 @@ void ResultWriter::Impl::create_viz() {
       const int e = element[l];
       if (e < 0)
         out[l] = 0.0;
-      else if (!polyline_axial[e].empty())
-        out[l] = polyline_axial[e].at(static_cast<std::size_t>(polyline[l]));
+      else if (!element_out[e].polyline_axial_forces.empty())
+        out[l] = element_out[e].polyline_axial_forces.at(static_cast<std::size_t>(polyline[l]));
       else
         out[l] = axial[e];
     }
@@ -346,16 +342,21 @@ void ResultWriter::Impl::create_viz() {
 }
 
 void ResultWriter::Impl::compute_step(const ModelState& state) {
-  axial.resize(model.elements.size());
-  polyline_axial.resize(model.elements.size());
-  for (std::size_t e = 0; e < model.elements.size(); ++e)
-    axial[e] = state.axial_force(static_cast<int>(e)).value_or(std::numeric_limits<double>::quiet_NaN());
-  for (std::size_t e = 0; e < model.elements.size(); ++e)
-    polyline_axial[e] = model.elements[e].element->polyline_axial_forces(
-          state.element_slots(static_cast<int>(e)), state.context());
-  energy = state.energy();
-  viz->points(state, points);
-  if (steps == 0) points0 = points;
+  // One evaluation per element for everything recorded of it.
+  const std::size_t ne = model.elements.size();
+  element_out.resize(ne);
+  axial.resize(ne);
+  energy = ElementEnergy{};
+  const ElementContext ctx = state.context();
+  for (std::size_t e = 0; e < ne; ++e) {
+    ElementOutput& o = element_out[e];
+    model.elements[e].element->output(state.element_slots(static_cast<int>(e)), ctx, o);
+    axial[e] = o.axial_force.value_or(std::numeric_limits<double>::quiet_NaN());
+    energy.kinetic += o.energy.kinetic;
+    energy.gravity_potential += o.energy.gravity_potential;
+    energy.strain += o.energy.strain;
+  }
+  viz->points(state, element_out, points);
 }
 
 void ResultWriter::Impl::write_probe_header() {
@@ -424,9 +425,9 @@ void ResultWriter::append(const ModelState& state) {
   if (first) w.viz = io::VizGeometry::plan(state);
   w.compute_step(state);  // throws before anything is written if the geometry changed size
 
-  // The .h5 first, flushed: the XDMF and CSV written next only ever name steps that are on disk.
+  // The .h5 first (its rows kept until the next flush), then the XDMF after a flush: it only ever
+  // names steps that are on disk.
   const io::QuietHdf5Errors quiet;
-  const auto step = static_cast<hsize_t>(w.steps);
   try {
     if (first) {
       w.create_viz();
@@ -436,7 +437,7 @@ void ResultWriter::append(const ModelState& state) {
     for (auto& o : w.outputs) {
       row.assign(static_cast<std::size_t>(o.series.row_size()), 0.0);
       o.fill(state, row.data());
-      o.series.write(step, row.data(), w.ctx);
+      o.series.append(row.data());
     }
   } catch (...) {
     w.broken = true;
@@ -456,6 +457,7 @@ void ResultWriter::append(const ModelState& state) {
 
 void ResultWriter::Impl::flush() {
   try {
+    for (auto& o : outputs) o.series.write_pending(ctx);
     ctx.check(H5Fflush(file.get(), H5F_SCOPE_GLOBAL), "flush the file");
   } catch (...) {
     broken = true;

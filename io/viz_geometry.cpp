@@ -80,12 +80,13 @@ VizGeometry VizGeometry::plan(const ModelState& state) {
   return g;
 }
 
-void VizGeometry::points(const ModelState& state, std::vector<double>& xyz) const {
+void VizGeometry::points(const ModelState& state, const std::vector<ElementOutput>& elements,
+                         std::vector<double>& xyz) const {
   const Model& model = state.model();
   xyz.assign(3 * static_cast<std::size_t>(num_points()), 0.0);
   for (std::size_t e = 0; e < model.elements.size(); ++e) {
     const Element& element = *model.elements[e].element;
-    const auto polylines = element.axis_polylines(state.element_slots(static_cast<int>(e)), state.context());
+    const auto& polylines = elements.at(e).polylines;
     bool same = polylines.size() == axis_count_[e].size();
     for (std::size_t k = 0; same && k < polylines.size(); ++k)
       same = (polylines[k].size() >= 2 ? static_cast<int>(polylines[k].size()) : 0) == axis_count_[e][k];

@@ -31,9 +31,10 @@ class VizGeometry {
   /// Index of each line's polyline within its element's axis_polylines, -1 for rigid-body lines.
   const std::vector<int>& line_polyline() const { return line_polyline_; }
 
-  /// Point positions (3 per point) at `state`. Throws std::runtime_error if an element's number
-  /// of axis points differs from the first state's.
-  void points(const ModelState& state, std::vector<double>& xyz) const;
+  /// Point positions (3 per point) at `state`, the elements' polylines taken from `elements`
+  /// (Element::output at the same state, one per model element). Throws std::runtime_error if an
+  /// element's number of axis points differs from the first state's.
+  void points(const ModelState& state, const std::vector<ElementOutput>& elements, std::vector<double>& xyz) const;
 
  private:
   /// A point at a joint's position or at a block's origin.

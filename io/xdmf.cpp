@@ -34,14 +34,14 @@ void XdmfDocument::add_step(double time) {
   const std::string lines = std::to_string(layout_.lines), points = std::to_string(layout_.points);
 
   // A DataItem selecting this step's entry of a (T, n) or (T, n, 3) dataset as a (1, n[, 3]) array.
-  auto slab = [&](const char* dataset, const std::string& n, bool vector) {
+  auto slab = [&](const char* dataset, const std::string& n, bool vector, const std::string& at) {
     x += "          <DataItem ItemType=\"HyperSlab\" Type=\"HyperSlab\" Dimensions=\"1 " + n +
          (vector ? " 3" : "") + "\">\n";
     if (vector)
-      x += "            <DataItem Dimensions=\"3 3\" NumberType=\"Int\" Format=\"XML\">" + step + " 0 0 1 1 1 1 " +
+      x += "            <DataItem Dimensions=\"3 3\" NumberType=\"Int\" Format=\"XML\">" + at + " 0 0 1 1 1 1 " +
            n + " 3</DataItem>\n";
     else
-      x += "            <DataItem Dimensions=\"3 2\" NumberType=\"Int\" Format=\"XML\">" + step + " 0 1 1 1 " + n +
+      x += "            <DataItem Dimensions=\"3 2\" NumberType=\"Int\" Format=\"XML\">" + at + " 0 1 1 1 " + n +
            "</DataItem>\n";
     x += "            <DataItem Dimensions=\"";
     gaps_.push_back(x.size());
@@ -62,13 +62,18 @@ void XdmfDocument::add_step(double time) {
   x += "          <DataItem Dimensions=\"" + lines + " 2\" NumberType=\"Int\" Precision=\"4\" Format=\"HDF\">" + h5 +
        ":/viz/lines</DataItem>\n";
   x += "        </Topology>\n        <Geometry GeometryType=\"XYZ\">\n";
-  slab("points", points, true);
+  slab("points", points, true, step);
   x += "        </Geometry>\n";
+  // The displacement since the first output, computed by the reader from the points (the .h5
+  // does not repeat them).
   x += "        <Attribute Name=\"displacement\" AttributeType=\"Vector\" Center=\"Node\">\n";
-  slab("displacement", points, true);
+  x += "          <DataItem ItemType=\"Function\" Function=\"$0 - $1\" Dimensions=\"1 " + points + " 3\">\n";
+  slab("points", points, true, step);
+  slab("points", points, true, "0");
+  x += "          </DataItem>\n";
   x += "        </Attribute>\n";
   x += "        <Attribute Name=\"axial_force\" AttributeType=\"Scalar\" Center=\"Cell\">\n";
-  slab("axial_force", lines, false);
+  slab("axial_force", lines, false, step);
   x += "        </Attribute>\n";
   static_cell_ints("body");
   static_cell_ints("element");
