@@ -1,91 +1,19 @@
-// Nested forward AD over the constraint kernels: the inner level differentiates g with respect to
-// right perturbations delta of the free blocks (giving G), the outer level differentiates those
-// with respect to a second perturbation eps applied before delta (giving dG/dq and Gamma).
-// The number of AD directions is 3 per free block plus the drive value, fixed at compile time
-// for 1..4 blocks: a joint to the ground costs (7/13)^2 of a joint between two bodies.
-#include "assembly/constraint_evaluator.hpp"
+// Constraints of thesis 4.4 in closed form. Every row is w . P (a joint position along a fixed
+// direction) or X . Y (two vectors of the joint frames: points, their difference, frame axes), and
+// each vector is a sum of at most two terms t + R s (points) or R c (axes) of the free blocks,
+// whose variations are those of points of rigid bodies under right perturbations R exp(skew(d)):
+//   dV = dt - R skew(s) d_theta,   D_eps[w . dV] = w . R (eps x (d_theta x s)).
+// So G, d(G^T lambda)/dq (4-15, 4-19, 4-23) and Gamma follow without automatic differentiation.
+#include "assembly/constraint_blocks.hpp"
 
-#include "assembly/constraint_kernels.hpp"
 #include "core/rotation.hpp"
 
-#include <unsupported/Eigen/AutoDiff>
+#include <cmath>
 
 namespace latticedyn {
 
-namespace {
+namespace constraint_detail {
 
-/// AD types for NV variables: 3 per free block, then the drive value u (index NV - 1).
-template <int NV>
-struct Ad {
-  static constexpr int kU = NV - 1;
-  using Inner = Eigen::AutoDiffScalar<Eigen::Matrix<double, NV, 1>>;
-  using Outer = Eigen::AutoDiffScalar<Eigen::Matrix<Inner, NV, 1>>;
-  static Inner inner_var(double v, int i) { return Inner(v, NV, i); }
-  static Outer outer_const(const Inner& v) { return Outer(v); }
-  // A variable of both levels: value v, d/d(delta_i) = 1 and d/d(eps_i) = 1, mixed derivative 0.
-  static Outer both_var(double v, int i) {
-    Outer x(inner_var(v, i));
-    x.derivatives()(i) = Inner(1.0);
-    return x;
-  }
-};
-
-template <class S>
-void frame_of(const Joint& j, const Vec3T<S>& r, const Mat3T<S>* R, Vec3T<S>& pos, Mat3T<S>& rot) {
-  if (R) {
-    pos = r + (*R) * cast_to<S>(j.offset);
-    rot = (*R) * cast_to<S>(j.frame);
-  } else {
-    pos = r;
-    rot = cast_to<S>(j.frame);
-  }
-}
-
-}  // namespace
-
-void joint_frame(const Joint& j, const BlockState& t, const BlockState* r, Vec3& pos, Mat3& rot) {
-  frame_of<double>(j, t.pos, r ? &r->rot : nullptr, pos, rot);
-}
-
-namespace {
-
-// The two AD levels: first order (G, g_u) for residuals, second order (also dG/dq, Gamma) for
-// Jacobians and the acceleration-level rows. A rotation is perturbed on the right; to second order
-// only the mixed eps-delta term matters: R (I + skew(eps)) (I + skew(delta)).
-template <int NV>
-struct FirstOrder {
-  using A = Ad<NV>;
-  using S = typename A::Inner;
-  static S var(double v, int i) { return A::inner_var(v, i); }
-  static S constant(double v) { return S(v); }
-  static Mat3T<S> perturbed(const Mat3& R, int c) {
-    Vec3T<S> delta;
-    for (int i = 0; i < 3; ++i) delta(i) = A::inner_var(0.0, c + i);
-    return R.cast<S>() * (Mat3T<S>::Identity() + skew(delta));
-  }
-  static Mat3T<S> fixed(const Mat3& R) { return R.cast<S>(); }
-};
-
-template <int NV>
-struct SecondOrder {
-  using A = Ad<NV>;
-  using Inner = typename A::Inner;
-  using S = typename A::Outer;
-  static S var(double v, int i) { return A::both_var(v, i); }
-  static S constant(double v) { return A::outer_const(Inner(v)); }
-  static Mat3T<S> perturbed(const Mat3& R, int c) {
-    Vec3T<S> eps, delta;
-    for (int i = 0; i < 3; ++i) {
-      eps(i) = S(Inner(0.0));
-      eps(i).derivatives()(c + i) = Inner(1.0);
-      delta(i) = A::outer_const(A::inner_var(0.0, c + i));
-    }
-    return fixed(R) * (Mat3T<S>::Identity() + skew(eps)) * (Mat3T<S>::Identity() + skew(delta));
-  }
-  static Mat3T<S> fixed(const Mat3& R) { return R.cast<Inner>().template cast<S>(); }
-};
-
-// The distinct free blocks of a constraint's joints, in order of appearance (3 columns each).
 int collect_blocks(const ConstraintInputs& in, ConstraintEval& out) {
   const Model& model = *in.model;
   const Constraint& c = *in.constraint;
@@ -104,106 +32,229 @@ int collect_blocks(const ConstraintInputs& in, ConstraintEval& out) {
   return n;
 }
 
-// Joint frames with seeds on the free blocks collected in `out`.
-template <class Level>
-JointPairFrames<typename Level::S> seeded_frames(const ConstraintInputs& in, const ConstraintEval& out) {
-  using S = typename Level::S;
-  const Model& model = *in.model;
-  const Constraint& c = *in.constraint;
+}  // namespace constraint_detail
+
+void joint_frame(const Joint& j, const BlockState& t, const BlockState* r, Vec3& pos, Mat3& rot) {
+  constraint_detail::frame_of<double>(j, t.pos, r ? &r->rot : nullptr, pos, rot);
+}
+
+namespace {
+
+constexpr int kCols = ConstraintEval::kMaxCols;
+using Jac = Eigen::Matrix<double, 3, kCols>;
+using Sq = Eigen::Matrix<double, kCols, kCols>;
+using Row = Eigen::Matrix<double, 1, kCols>;
+
+// A vector of the joint frames: its value, its Jacobian in the constraint's columns, and the
+// rotating terms R s that its second variation comes from (sign, rotation column, R, s).
+struct FrameVector {
+  Vec3 v = Vec3::Zero();
+  Jac J = Jac::Zero();
+  struct Term {
+    double sign;
+    int col;  // the rotation block's first column, -1 if it does not move
+    Mat3 R;
+    Vec3 s;
+  };
+  Term terms[2];
+  int nterms = 0;
+
+  FrameVector operator-(const FrameVector& o) const {
+    FrameVector d = *this;
+    d.v -= o.v;
+    d.J -= o.J;
+    for (int k = 0; k < o.nterms; ++k) {
+      d.terms[d.nterms] = o.terms[k];
+      d.terms[d.nterms++].sign = -o.terms[k].sign;
+    }
+    return d;
+  }
+  Vec3 rate(const Eigen::Matrix<double, kCols, 1>& dq) const { return J * dq; }
+};
+
+// D_eps[w . dV(q (+) eps)] as a matrix (rows: the virtual displacement, columns: eps):
+// (R^T w) s^T - (R^T w . s) I on the rotation block of each term.
+void add_second_variation(const FrameVector& V, const Vec3& w, double coeff, Sq& H) {
+  for (int k = 0; k < V.nterms; ++k) {
+    const FrameVector::Term& t = V.terms[k];
+    if (t.col < 0) continue;
+    const Vec3 u = t.R.transpose() * w;
+    H.block<3, 3>(t.col, t.col) += (coeff * t.sign) * (u * t.s.transpose() - u.dot(t.s) * Mat3::Identity());
+  }
+}
+
+// w . R (omega x (omega x s)) summed over the terms: the second variation along the motion itself.
+double centripetal(const FrameVector& V, const Vec3& w, const ConstraintInputs& in, const ConstraintEval& out) {
+  double g = 0.0;
+  for (int k = 0; k < V.nterms; ++k) {
+    const FrameVector::Term& t = V.terms[k];
+    if (t.col < 0) continue;
+    const Vec3& om = in.block_state(out.blocks[t.col / 3]).vel;
+    g += t.sign * w.dot(t.R * om.cross(om.cross(t.s)));
+  }
+  return g;
+}
+
+struct JointVectors {
+  FrameVector position, axis[3];
+};
+
+JointVectors joint_vectors(const ConstraintInputs& in, const ConstraintEval& out, int joint) {
+  const Joint& j = in.model->joints[joint];
   auto column_of = [&](int block) -> int {
-    for (int k = 0; k < 4; ++k)
+    for (int k = 0; k < out.cols / 3; ++k)
       if (block >= 0 && out.blocks[k] == block) return 3 * k;
     return -1;
   };
-  JointPairFrames<S> f;
-  for (int side = 0; side < 2; ++side) {
-    const Joint& j = model.joints[side == 0 ? c.joint1 : c.joint2];
-    const BlockState& ts = in.block_state(j.translation_block);
-    Vec3T<S> r;
-    const int ct = column_of(j.translation_block);
-    for (int i = 0; i < 3; ++i) r(i) = ct >= 0 ? Level::var(ts.pos(i), ct + i) : Level::constant(ts.pos(i));
-    Mat3T<S> R;
-    const Mat3T<S>* Rp = nullptr;
-    if (j.rotation_block >= 0) {
-      const BlockState& rs = in.block_state(j.rotation_block);
-      const int cr = column_of(j.rotation_block);
-      R = cr >= 0 ? Level::perturbed(rs.rot, cr) : Level::fixed(rs.rot);
-      Rp = &R;
-    }
-    frame_of<S>(j, r, Rp, side == 0 ? f.r1 : f.r2, side == 0 ? f.R1 : f.R2);
+  JointVectors jv;
+  const BlockState& ts = in.block_state(j.translation_block);
+  const int ct = column_of(j.translation_block);
+  jv.position.v = ts.pos;
+  if (ct >= 0) jv.position.J.block<3, 3>(0, ct) = Mat3::Identity();
+  if (j.rotation_block < 0) {
+    for (int i = 0; i < 3; ++i) jv.axis[i].v = j.frame.col(i);
+    return jv;
   }
-  return f;
+  const Mat3& R = in.block_state(j.rotation_block).rot;
+  const int cr = column_of(j.rotation_block);
+  jv.position.v += R * j.offset;
+  jv.position.terms[jv.position.nterms++] = {1.0, cr, R, j.offset};
+  if (cr >= 0) jv.position.J.block<3, 3>(0, cr) = -R * skew<double>(j.offset);
+  for (int i = 0; i < 3; ++i) {
+    FrameVector& a = jv.axis[i];
+    const Vec3 c = j.frame.col(i);
+    a.v = R * c;
+    a.terms[a.nterms++] = {1.0, cr, R, c};
+    if (cr >= 0) a.J.block<3, 3>(0, cr) = -R * skew<double>(c);
+  }
+  return jv;
 }
 
-template <int NV>
-void first_order(const ConstraintInputs& in, ConstraintEval& out) {
-  using A = Ad<NV>;
-  using Inner = typename A::Inner;
-  const JointPairFrames<Inner> f = seeded_frames<FirstOrder<NV>>(in, out);
-  Inner g[ConstraintEval::kMaxRows];
-  constraint_values<Inner>(*in.constraint, f, A::inner_var(in.drive.value, A::kU), g);
-  for (int r = 0; r < out.rows; ++r) {
-    out.g(r) = g[r].value();
-    for (int k = 0; k < out.cols; ++k) out.G(r, k) = g[r].derivatives()(k);
-    out.g_u(r) = g[r].derivatives()(A::kU);
+// One row g = coeff X . Y (or coeff w . X when Y is a fixed direction) with its derivatives; its
+// second variation goes straight into H = d(G^T lambda)/dq weighted with the row's multiplier.
+struct RowTerms {
+  double g = 0.0;
+  Row G = Row::Zero();
+  double gamma = 0.0;  // the second variation along the motion, dq^T (dG/dq) dq
+};
+
+struct Second {
+  Sq* H = nullptr;       // null: not wanted
+  double weight = 0.0;   // lambda of the row
+};
+
+void add_dot(const FrameVector& X, const FrameVector& Y, double coeff, Second h, bool velocity,
+             const Eigen::Matrix<double, kCols, 1>& dq, const ConstraintInputs& in, const ConstraintEval& out,
+             RowTerms& r) {
+  r.g += coeff * X.v.dot(Y.v);
+  r.G.noalias() += coeff * (Y.v.transpose() * X.J + X.v.transpose() * Y.J);
+  if (h.H) {
+    const double c = coeff * h.weight;
+    add_second_variation(X, Y.v, c, *h.H);
+    add_second_variation(Y, X.v, c, *h.H);
+    const int n = out.cols;
+    h.H->topLeftCorner(n, n).noalias() += c * (X.J.leftCols(n).transpose() * Y.J.leftCols(n) +
+                                               Y.J.leftCols(n).transpose() * X.J.leftCols(n));
   }
+  if (velocity)
+    r.gamma += coeff * (centripetal(X, Y.v, in, out) + centripetal(Y, X.v, in, out) + 2.0 * X.rate(dq).dot(Y.rate(dq)));
 }
 
-template <int NV>
-void second_order(const ConstraintInputs& in, ConstraintEval& out) {
-  using A = Ad<NV>;
-  using Outer = typename A::Outer;
-  const JointPairFrames<Outer> f = seeded_frames<SecondOrder<NV>>(in, out);
-  Outer g[ConstraintEval::kMaxRows];
-  constraint_values<Outer>(*in.constraint, f, A::both_var(in.drive.value, A::kU), g);
-
-  const int m = out.rows, n = out.cols;
-  Eigen::Matrix<double, ConstraintEval::kMaxCols, 1> v = Eigen::Matrix<double, ConstraintEval::kMaxCols, 1>::Zero();
-  for (int k = 0; k < n / 3; ++k) v.segment<3>(3 * k) = in.block_state(out.blocks[k]).vel;
-
-  for (int r = 0; r < m; ++r) {
-    const auto& val = g[r].value();
-    out.g(r) = val.value();
-    for (int k = 0; k < n; ++k) out.G(r, k) = val.derivatives()(k);
-    out.g_u(r) = val.derivatives()(A::kU);
-    // dG(r, k)/d(eps_l) is the delta_k-derivative of the eps_l-derivative.
-    if (in.lambda)
-      for (int l = 0; l < n; ++l)
-        for (int k = 0; k < n; ++k) out.H(k, l) += in.lambda[r] * g[r].derivatives()(l).derivatives()(k);
-    if (in.with_velocity_terms) {
-      const double ud = in.drive.rate, udd = in.drive.accel;
-      double gamma = 0.0, dGdu_v = 0.0;
-      for (int l = 0; l < n; ++l) {
-        const auto& dl = g[r].derivatives()(l).derivatives();
-        for (int k = 0; k < n; ++k) gamma += dl(k) * v(k) * v(l);
-      }
-      const auto& du = g[r].derivatives()(A::kU).derivatives();
-      for (int k = 0; k < n; ++k) dGdu_v += du(k) * v(k);
-      gamma += 2.0 * dGdu_v * ud + du(A::kU) * ud * ud + out.g_u(r) * udd;
-      out.gamma(r) = gamma;
-      out.g_dot(r) = out.G.row(r).head(n).dot(v.head(n)) + out.g_u(r) * ud;
-    }
-  }
-}
-
-template <int NV>
-void evaluate(const ConstraintInputs& in, ConstraintEval& out) {
-  if (!in.lambda && !in.with_velocity_terms)
-    first_order<NV>(in, out);
-  else
-    second_order<NV>(in, out);
+void add_along(const FrameVector& X, const Vec3& w, double coeff, Second h, bool velocity, const ConstraintInputs& in,
+               const ConstraintEval& out, RowTerms& r) {
+  r.g += coeff * w.dot(X.v);
+  r.G.noalias() += coeff * (w.transpose() * X.J);
+  if (h.H) add_second_variation(X, w, coeff * h.weight, *h.H);
+  if (velocity) r.gamma += coeff * centripetal(X, w, in, out);
 }
 
 }  // namespace
 
 ConstraintEval evaluate_constraint(const ConstraintInputs& in) {
   ConstraintEval out;
-  out.rows = in.constraint->rows();
-  switch (collect_blocks(in, out)) {
-    case 1: evaluate<4>(in, out); break;
-    case 2: evaluate<7>(in, out); break;
-    case 3: evaluate<10>(in, out); break;
-    default: evaluate<13>(in, out); break;
+  const Constraint& c = *in.constraint;
+  out.rows = c.rows();
+  constraint_detail::collect_blocks(in, out);
+  const int n = out.cols;
+  const bool second = in.lambda != nullptr, velocity = in.with_velocity_terms;
+  Eigen::Matrix<double, kCols, 1> dq = Eigen::Matrix<double, kCols, 1>::Zero();
+  if (velocity)
+    for (int k = 0; k < n / 3; ++k) dq.segment<3>(3 * k) = in.block_state(out.blocks[k]).vel;
+  const JointVectors j1 = joint_vectors(in, out, c.joint1), j2 = joint_vectors(in, out, c.joint2);
+  const int a = c.axis, p = (a + 1) % 3, q = (a + 2) % 3;
+  const double u = in.drive.value;
+
+  RowTerms rows[ConstraintEval::kMaxRows];
+  // Drive terms of the driven row: g_u, and Gamma's terms in the drive's rates.
+  double g_u[ConstraintEval::kMaxRows] = {0, 0, 0, 0, 0, 0};
+  double gamma_drive[ConstraintEval::kMaxRows] = {0, 0, 0, 0, 0, 0};
+  auto h = [&](int row, double factor = 1.0) {
+    return second ? Second{&out.H, factor * in.lambda[row]} : Second{};
+  };
+  auto position_rows = [&](int first) {  // r1 - r2 = 0
+    const FrameVector d = j1.position - j2.position;
+    for (int i = 0; i < 3; ++i) add_along(d, Vec3::Unit(i), 1.0, h(first + i), velocity, in, out, rows[first + i]);
+  };
+  auto aligned_rows = [&](int first) {  // e_y1.e_z2 = e_z1.e_x2 = e_x1.e_y2 = 0
+    add_dot(j1.axis[1], j2.axis[2], 1.0, h(first), velocity, dq, in, out, rows[first]);
+    add_dot(j1.axis[2], j2.axis[0], 1.0, h(first + 1), velocity, dq, in, out, rows[first + 1]);
+    add_dot(j1.axis[0], j2.axis[1], 1.0, h(first + 2), velocity, dq, in, out, rows[first + 2]);
+  };
+  switch (c.type) {
+    case ConstraintType::spherical:
+      position_rows(0);
+      break;
+    case ConstraintType::fixed:
+      position_rows(0);
+      aligned_rows(3);
+      break;
+    case ConstraintType::revolute:
+      position_rows(0);
+      add_dot(j1.axis[p], j2.axis[a], 1.0, h(3), velocity, dq, in, out, rows[3]);
+      add_dot(j1.axis[q], j2.axis[a], 1.0, h(4), velocity, dq, in, out, rows[4]);
+      if (c.drive >= 0) {
+        // g = cos(u) e_q1.e_p2 - sin(u) e_p1.e_p2 = cos(u) A - sin(u) B, so g_u = -sin(u) A - cos(u) B
+        // and g_uu = -g.
+        const double cu = std::cos(u), su = std::sin(u);
+        RowTerms A, B;
+        add_dot(j1.axis[q], j2.axis[p], 1.0, h(5, cu), velocity, dq, in, out, A);
+        add_dot(j1.axis[p], j2.axis[p], 1.0, h(5, -su), velocity, dq, in, out, B);
+        RowTerms& r = rows[5];
+        r.g = cu * A.g - su * B.g;
+        r.G = cu * A.G - su * B.G;
+        r.gamma = cu * A.gamma - su * B.gamma;
+        g_u[5] = -su * A.g - cu * B.g;
+        if (velocity) {
+          const double ud = in.drive.rate;
+          const double Gu_dq = -su * A.G.dot(dq.transpose()) - cu * B.G.dot(dq.transpose());
+          gamma_drive[5] = 2.0 * Gu_dq * ud - r.g * ud * ud + g_u[5] * in.drive.accel;
+        }
+      }
+      break;
+    case ConstraintType::prismatic: {
+      // (r1 - r2).e_p1 = (r1 - r2).e_q1 = 0, frames aligned; driven: (r2 - r1).e_a1 - u = 0.
+      const FrameVector d = j1.position - j2.position;
+      add_dot(d, j1.axis[p], 1.0, h(0), velocity, dq, in, out, rows[0]);
+      add_dot(d, j1.axis[q], 1.0, h(1), velocity, dq, in, out, rows[1]);
+      aligned_rows(2);
+      if (c.drive >= 0) {
+        add_dot(d, j1.axis[a], -1.0, h(5), velocity, dq, in, out, rows[5]);
+        rows[5].g -= u;
+        g_u[5] = -1.0;
+        if (velocity) gamma_drive[5] = -in.drive.accel;
+      }
+      break;
+    }
+  }
+
+  for (int r = 0; r < out.rows; ++r) {
+    out.g(r) = rows[r].g;
+    out.G.row(r) = rows[r].G;
+    out.g_u(r) = g_u[r];
+    if (velocity) {
+      out.gamma(r) = rows[r].gamma + gamma_drive[r];
+      out.g_dot(r) = rows[r].G.head(n).dot(dq.head(n)) + g_u[r] * in.drive.rate;
+    }
   }
   return out;
 }

@@ -1,5 +1,6 @@
 // Evaluates a constraint at the current state: g, its Jacobian G in the blocks' velocity variables,
-// the geometric stiffness d(G^T lambda)/dq and the acceleration-level terms of (4-3), (4-27).
+// the geometric stiffness d(G^T lambda)/dq and the acceleration-level terms of (4-3), (4-27), in
+// closed form; and the same by automatic differentiation, the tests' reference.
 #pragma once
 
 #include "assembly/model.hpp"
@@ -43,7 +44,13 @@ struct ConstraintInputs {
   bool with_velocity_terms = false;            ///< compute g_dot and gamma
 };
 
+/// In closed form: every row is linear in a joint's position (a point p = t + R s of its blocks) or
+/// a dot product of two such vectors (points and frame axes R c), whose first and second
+/// variations under right perturbations of the rotations are those of points of rigid bodies
+/// (constraint_evaluator.cpp).
 ConstraintEval evaluate_constraint(const ConstraintInputs& in);
+/// The same by nested forward automatic differentiation of constraint_values (constraint_kernels.hpp).
+ConstraintEval evaluate_constraint_ad(const ConstraintInputs& in);
 
 /// The two joints' frames at the current state (for output and violation reports).
 void joint_frame(const Joint& j, const BlockState& t, const BlockState* r, Vec3& pos, Mat3& rot);

@@ -158,7 +158,7 @@ void BM_ConstraintRevolute(benchmark::State& st) {
   in.block_state = [&](int i) -> const BlockState& { return states[i]; };
   if (st.range(0) == 1) in.lambda = lambda;
   for (auto _ : st) benchmark::DoNotOptimize(evaluate_constraint(in).g(0));
-  st.SetLabel(st.range(0) == 1 ? "g, G and d(G^T lambda)/dq (nested AD)" : "g and G (first-order AD)");
+  st.SetLabel(st.range(0) == 1 ? "g, G and d(G^T lambda)/dq (closed form)" : "g and G (closed form)");
 }
 BENCHMARK(BM_ConstraintRevolute)->Arg(0)->Arg(1);
 

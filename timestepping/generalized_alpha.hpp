@@ -17,6 +17,9 @@ class GeneralizedAlphaIntegrator {
   /// Jacobian reuse: a Newton iteration that leaves more than this fraction of the residual
   /// makes the next one take a fresh Jacobian.
   static constexpr double kChordContraction = 0.5;
+  /// On one rank, systems of at most this many unknowns are factored dense (LAPACK); the option
+  /// -dyn_dense_below N changes it (0: always the sparse direct solver).
+  static constexpr int kDenseBelow = 64;
 
   GeneralizedAlphaIntegrator(SystemAssembler& assembler, DynamicSettings settings);
   ~GeneralizedAlphaIntegrator();
@@ -50,6 +53,7 @@ class GeneralizedAlphaIntegrator {
   PetscBool predictor_ = PETSC_TRUE;                    // -dyn_predictor: Newton starts from a Taylor guess
   TS ts_ = nullptr;
   Mat J_ = nullptr;
+  Mat P_ = nullptr;  // a dense copy of J_ for small systems, factored instead of it
   Vec F_ = nullptr, Uc_ = nullptr, V_prev_ = nullptr, A_est_ = nullptr, A_scaled_ = nullptr;
   StepObserver* observer_ = nullptr;
   DynamicReport* report_ = nullptr;

@@ -9,6 +9,8 @@
 #include <gtest/gtest.h>
 
 #include <random>
+#include <stdexcept>
+#include <string>
 
 namespace latticedyn {
 namespace {
@@ -67,6 +69,74 @@ TEST(Constraints, VelocityAndAccelerationTermsMatchTimeDerivatives) {
       EXPECT_NEAR(e0.g_dot(r), gd_fd, 1e-7 * (1 + std::abs(gd_fd))) << c.name << " row " << r;
       EXPECT_NEAR(gdd, gdd_fd, 2e-5 * (1 + std::abs(gdd_fd))) << c.name << " row " << r;
     }
+  }
+}
+
+// The closed form against the AD reference for every constraint of the sample model (every type,
+// driven and not, joints to the ground and between bodies), at random rotated, moving states:
+// g, G, g_u, d(G^T lambda)/dq, g_dot and Gamma.
+TEST(Constraints, ClosedFormEqualsAutomaticDifferentiation) {
+  const Model model = testing::kitchen_sink_model();
+  std::mt19937 rng(4);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int trial = 0; trial < 5; ++trial) {
+    std::vector<BlockState> states;
+    for (const auto& b : model.blocks) {
+      BlockState s;
+      s.pos = b.position0 + 0.3 * Vec3(u(rng), u(rng), u(rng));
+      s.rot = b.orientation0 * rotation_matrix<double>(2.0 * Vec3(u(rng), u(rng), u(rng)));
+      s.vel = Vec3(u(rng), u(rng), u(rng));
+      s.acc = Vec3(u(rng), u(rng), u(rng));
+      states.push_back(s);
+    }
+    // Every type, axis and drive between two bodies, a body and the ground, and the model's own.
+    std::vector<Constraint> cases = model.constraints;
+    auto joint = [&](const std::string& name) {
+      for (std::size_t j = 0; j < model.joints.size(); ++j)
+        if (model.joints[j].name == name) return static_cast<int>(j);
+      throw std::runtime_error("no joint " + name);
+    };
+    const std::pair<std::string, std::string> pairs[] = {{"a.1", "b.0"}, {"ground.o", "a.0"}, {"b.1", "c.0"}};
+    for (const auto& [n1, n2] : pairs)
+      for (ConstraintType type : {ConstraintType::fixed, ConstraintType::revolute, ConstraintType::prismatic,
+                                  ConstraintType::spherical})
+        for (int axis = 0; axis < 3; ++axis)
+          for (int drive : {-1, 0}) {
+            if (drive >= 0 && (type == ConstraintType::fixed || type == ConstraintType::spherical)) continue;
+            Constraint c;
+            c.name = n1 + "-" + n2 + " " + to_string(type) + " axis " + std::to_string(axis) +
+                     (drive >= 0 ? " driven" : "");
+            c.type = type;
+            c.axis = axis;
+            c.joint1 = joint(n1);
+            c.joint2 = joint(n2);
+            c.drive = drive;
+            cases.push_back(c);
+          }
+    int nontrivial = 0;
+    for (const Constraint& c : cases) {
+      double lambda[ConstraintEval::kMaxRows];
+      for (double& l : lambda) l = 10 * u(rng);
+      ConstraintInputs in;
+      in.model = &model;
+      in.constraint = &c;
+      in.block_state = [&states](int b) -> const BlockState& { return states[b]; };
+      in.drive = c.drive >= 0 ? model.drives[c.drive].evaluate(0.3 + trial) : DriveValue{};
+      in.lambda = lambda;
+      in.with_velocity_terms = true;
+      const ConstraintEval a = evaluate_constraint(in), b = evaluate_constraint_ad(in);
+      ASSERT_EQ(a.cols, b.cols);
+      const double scale = 1 + b.G.cwiseAbs().maxCoeff();
+      EXPECT_LT((a.g - b.g).cwiseAbs().maxCoeff(), 1e-13 * scale) << c.name;
+      EXPECT_LT((a.G - b.G).cwiseAbs().maxCoeff(), 1e-13 * scale) << c.name;
+      EXPECT_LT((a.g_u - b.g_u).cwiseAbs().maxCoeff(), 1e-13 * scale) << c.name;
+      EXPECT_LT((a.H - b.H).cwiseAbs().maxCoeff(), 1e-12 * (1 + b.H.cwiseAbs().maxCoeff())) << c.name << "\n"
+                                                                                                << a.H << "\n\n" << b.H;
+      EXPECT_LT((a.g_dot - b.g_dot).cwiseAbs().maxCoeff(), 1e-12 * scale) << c.name;
+      EXPECT_LT((a.gamma - b.gamma).cwiseAbs().maxCoeff(), 1e-12 * (1 + b.gamma.cwiseAbs().maxCoeff())) << c.name;
+      if (b.H.cwiseAbs().maxCoeff() > 0.0) ++nontrivial;  // a spherical joint at a body's origin has none
+    }
+    EXPECT_GT(nontrivial, static_cast<int>(cases.size()) * 3 / 4);
   }
 }
 
