@@ -117,7 +117,7 @@ void read_solver(const InputNode& n, Simulation& sim) {
   }
   if (auto d = n.get("dynamics")) {
     d->allow_only({"integrator", "t_start", "t_end", "time_step", "rho_infinity", "adaptive", "rtol", "atol", "max_steps",
-                   "baumgarte_alpha", "baumgarte_beta", "rk_type", "jacobian_reuse"});
+                   "baumgarte_alpha", "baumgarte_beta", "rk_type", "jacobian_reuse", "newton_tolerance"});
     sim.run_dynamics = true;
     DynamicSettings& dy = sim.dynamics;
     if (auto k = d->get("integrator"))
@@ -142,6 +142,10 @@ void read_solver(const InputNode& n, Simulation& sim) {
     if (auto k = d->get("jacobian_reuse")) {
       dy.jacobian_reuse = k->as_int();
       if (dy.jacobian_reuse < 1 || dy.jacobian_reuse > 1000) k->fail("expected 1 (a fresh Jacobian every Newton iteration) to 1000");
+    }
+    if (auto k = d->get("newton_tolerance")) {
+      dy.newton_tolerance = k->as_positive();
+      if (dy.newton_tolerance >= 1e-2) k->fail("expected a small positive fraction of the model's load, below 1e-2");
     }
     dy.baumgarte_alpha = d->get_non_negative("baumgarte_alpha", dy.baumgarte_alpha);
     dy.baumgarte_beta = d->get_non_negative("baumgarte_beta", dy.baumgarte_beta);

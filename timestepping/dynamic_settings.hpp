@@ -25,6 +25,9 @@ struct DynamicSettings {
   /// Generalized-alpha: Newton iterations one Jacobian and its factorisation serve, across steps
   /// (1: a fresh one every iteration). A new step size or a rotation rescale forces a fresh one.
   int jacobian_reuse = 1;
+  /// Generalized-alpha: a step's Newton iterations stop when the residual's 2-norm falls below
+  /// this fraction of the model's load (its weight and nodal forces), or to its round-off floor.
+  double newton_tolerance = 1e-6;
 };
 
 struct DynamicReport {

@@ -72,6 +72,7 @@ TEST(ModelReader, ReadsAValidModel) {
   EXPECT_TRUE(sim.run_dynamics);
   EXPECT_EQ(sim.statics.load_steps, 2);
   EXPECT_DOUBLE_EQ(sim.dynamics.rho_infinity, 0.8);
+  EXPECT_DOUBLE_EQ(sim.dynamics.newton_tolerance, 1e-6);  // the default
   EXPECT_EQ(sim.output.directory, "results/valid");
   ASSERT_EQ(sim.output.probe_joints.size(), 1u);
   EXPECT_EQ(m.joints[sim.output.probe_joints[0]].name, "tie.2");
@@ -155,6 +156,8 @@ INSTANTIATE_TEST_SUITE_P(
                  "constraints[2]", "apart"},
         BadInput{"unknown_rk_scheme", "rho_infinity: 0.8}", "rho_infinity: 0.8, rk_type: rk99}", 0,
                  "solver.dynamics.rk_type", "not one of"},
+        BadInput{"loose_newton_tolerance", "rho_infinity: 0.8}", "rho_infinity: 0.8, newton_tolerance: 0.1}", 0,
+                 "solver.dynamics.newton_tolerance", "below 1e-2"},
         BadInput{"duplicate_constraint_name", "{name: hook,", "{name: hinge,", 0, "constraints[1].name",
                  "exists already"},
         BadInput{"material_on_custom_body", "    mass: 3\n", "    mass: 3\n    material: steel\n", 1,
