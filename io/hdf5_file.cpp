@@ -122,7 +122,7 @@ void write_strings(hid_t parent, const std::string& name, const std::vector<std:
 }
 
 Series::Series(hid_t parent, const std::string& name, std::vector<hsize_t> row, const char* units,
-               const Hdf5Context& ctx)
+               const Hdf5Context& ctx, bool single)
     : name_(name), row_(std::move(row)) {
   const std::string what = "create dataset '" + name + "'";
   hsize_t size = 1;
@@ -140,7 +140,8 @@ Series::Series(hid_t parent, const std::string& name, std::vector<hsize_t> row, 
   const Hid dcpl = ctx.own(H5Pcreate(H5P_DATASET_CREATE), H5Pclose, what);
   ctx.check(H5Pset_chunk(dcpl.get(), rank, chunk.data()), what);
   ds_ = ctx.own(
-      H5Dcreate2(parent, name.c_str(), H5T_IEEE_F64LE, space.get(), H5P_DEFAULT, dcpl.get(), H5P_DEFAULT),
+      H5Dcreate2(parent, name.c_str(), single ? H5T_IEEE_F32LE : H5T_IEEE_F64LE, space.get(), H5P_DEFAULT, dcpl.get(),
+                 H5P_DEFAULT),
       H5Dclose, what);
   write_string_attribute(ds_.get(), "units", units, ctx);
 }

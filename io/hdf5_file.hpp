@@ -88,8 +88,9 @@ class Series {
  public:
   /// Every row dimension must be positive (HDF5 rejects zero chunk dimensions). `units` is stored
   /// as the dataset's "units" attribute.
+  /// Rows are doubles in memory; `single` stores them as 32-bit floats (drawing coordinates).
   Series(hid_t parent, const std::string& name, std::vector<hsize_t> row, const char* units,
-         const Hdf5Context& ctx);
+         const Hdf5Context& ctx, bool single = false);
 
   int row_size() const { return row_size_; }
   /// Keeps the next entry (row-major `row`) until write_pending().

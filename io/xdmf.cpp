@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstring>
 #include <stdexcept>
+#include <string_view>
 #include <system_error>
 
 namespace latticedyn::io {
@@ -45,7 +46,9 @@ void XdmfDocument::add_step(double time) {
            "</DataItem>\n";
     x += "            <DataItem Dimensions=\"";
     gaps_.push_back(x.size());
-    x += " " + n + (vector ? " 3" : "") + "\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">" + h5 +
+    // /viz/points is stored in single precision, everything else in double.
+    const char* precision = std::string_view(dataset) == "points" ? "4" : "8";
+    x += " " + n + (vector ? " 3" : "") + "\" NumberType=\"Float\" Precision=\"" + precision + "\" Format=\"HDF\">" + h5 +
          ":/viz/" + dataset + "</DataItem>\n";
     x += "          </DataItem>\n";
   };
