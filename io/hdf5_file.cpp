@@ -123,7 +123,7 @@ void write_strings(hid_t parent, const std::string& name, const std::vector<std:
 
 Series::Series(hid_t parent, const std::string& name, std::vector<hsize_t> row, const char* units,
                const Hdf5Context& ctx, bool single)
-    : name_(name), row_(std::move(row)) {
+    : name_(name), row_(std::move(row)), single_(single) {
   const std::string what = "create dataset '" + name + "'";
   hsize_t size = 1;
   for (hsize_t d : row_) size *= d;
@@ -165,8 +165,13 @@ void Series::write_pending(const Hdf5Context& ctx) {
   ctx.check(H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, start.data(), nullptr, count.data(), nullptr),
             what);
   const Hid mem_space = ctx.own(H5Screate_simple(rank, count.data(), nullptr), H5Sclose, what);
-  ctx.check(H5Dwrite(ds_.get(), H5T_NATIVE_DOUBLE, mem_space.get(), file_space.get(), H5P_DEFAULT, pending_.data()),
-            what);
+  if (single_) {
+    const std::vector<float> rows_f(pending_.begin(), pending_.end());
+    ctx.check(H5Dwrite(ds_.get(), H5T_NATIVE_FLOAT, mem_space.get(), file_space.get(), H5P_DEFAULT, rows_f.data()), what);
+  } else {
+    ctx.check(H5Dwrite(ds_.get(), H5T_NATIVE_DOUBLE, mem_space.get(), file_space.get(), H5P_DEFAULT, pending_.data()),
+              what);
+  }
   written_ += rows;
   pending_.clear();
 }

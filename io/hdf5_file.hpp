@@ -106,6 +106,7 @@ class Series {
   int row_size_ = 0;
   hsize_t written_ = 0;         // entries in the file
   std::vector<double> pending_;  // entries appended since, row after row
+  bool single_ = false;          // stored as float: converted here (HDF5's conversion is slower)
   Hid ds_;
 };
 
