@@ -5,6 +5,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <mutex>
 #include <numbers>
 #include <stdexcept>
 #include <string>
@@ -89,15 +90,13 @@ void check_order(int n) {
 
 const GaussRule& gauss_legendre(int n) {
   check_order(n);
-  // A function-local static is initialised exactly once even under concurrent first calls.
-  static const std::array<GaussRule, kMaxGaussPoints> rules = [] {
-    std::array<GaussRule, kMaxGaussPoints> all;
-    for (int k = kMinGaussPoints; k <= kMaxGaussPoints; ++k) {
-      all[static_cast<std::size_t>(k - 1)] = compute_rule(k);
-    }
-    return all;
-  }();
-  return rules[static_cast<std::size_t>(n - 1)];
+  // Each rule is computed on its first use, exactly once even under concurrent first calls (all
+  // 64 in long double took about 30 ms: a process's start-up, for the one or two it needs).
+  static std::array<GaussRule, kMaxGaussPoints> rules;
+  static std::array<std::once_flag, kMaxGaussPoints> computed;
+  const auto k = static_cast<std::size_t>(n - 1);
+  std::call_once(computed[k], [&] { rules[k] = compute_rule(n); });
+  return rules[k];
 }
 
 GaussRule gauss_legendre_on(int n, double a, double b) {
