@@ -5,6 +5,7 @@
 #include "assembly/system_assembler.hpp"
 
 #include "assembly/element_loop.hpp"
+#include "assembly/matrix_fill.hpp"
 #include "assembly/nodal_load.hpp"
 #include "core/rotation.hpp"
 
@@ -15,31 +16,13 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <stdexcept>
 
 namespace latticedyn {
 
 namespace {
 
 using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-
-// Offset transform of a rotation slot: element frame = block frame * O, so the element's rotation
-// rows and columns are rotated by O into the block frame.
-void to_block_frame(const ElementEntry& entry, ElementTangents& t) {
-  const auto kinds = entry.element->slots();
-  int o = 0;
-  for (std::size_t k = 0; k < kinds.size(); ++k) {
-    const int n = slot_size(kinds[k]);
-    const Mat3& O = entry.slots[k].offset;
-    if (kinds[k] == SlotKind::rotation && !O.isIdentity(0.0)) {
-      t.residual.segment<3>(o) = O * t.residual.segment<3>(o).eval();
-      for (MatX* m : {&t.K, &t.C, &t.M}) {
-        m->middleRows<3>(o) = O * m->middleRows<3>(o).eval();
-        m->middleCols<3>(o) = m->middleCols<3>(o).eval() * O.transpose();
-      }
-    }
-    o += n;
-  }
-}
 
 }  // namespace
 
@@ -398,45 +381,21 @@ PetscErrorCode SystemAssembler::jacobian(const EvaluationPoint& at, const Evalua
     thread_local std::vector<SlotState<double>> slots;
     gather_slots(entry, state_, slots);
     entry.element->tangents(slots, ctx, t);
-    to_block_frame(entry, t);
   };
   parallel_for_each(static_cast<int>(threaded_.size()), threads_,
                     [&](int k) { evaluate(threaded_[k], element_tangents_[k]); });
+  // Elements' tangents go straight into the matrix's value arrays where the plan knows the
+  // positions (every Jacobian after the first, on rows this rank owns), else through MatSetValues.
+  const bool direct = fill_.ready_for(J);
+  if (direct) PetscCall(fill_.begin(J));
   ElementTangents inline_t;
-  std::array<int, 16> offs{};
   for (std::size_t i = 0; i < elements.size(); ++i) {
     const ElementEntry& entry = model_.elements[elements[i]];
-    const auto kinds = entry.element->slots();
     if (buffer_of_[i] < 0) evaluate(static_cast<int>(i), inline_t);
     const ElementTangents& t = buffer_of_[i] < 0 ? inline_t : element_tangents_[buffer_of_[i]];
-    const int n = entry.element->num_dofs();
-    Je.setZero(n, n);
-    idx.assign(n, -1);
-    int o = 0;
-    for (std::size_t k = 0; k < kinds.size(); ++k) {
-      offs[k] = o;
-      const int b = entry.slots[k].block;
-      if (!model_.blocks[b].fixed)
-        for (int i = 0; i < slot_size(kinds[k]); ++i) idx[o + i] = dofs_.block_dof(b) + i;
-      if (kinds[k] == SlotKind::rotation) y[b] += t.residual.segment<3>(o);
-      o += slot_size(kinds[k]);
-    }
-    for (std::size_t ki = 0; ki < kinds.size(); ++ki) {
-      const int bi = entry.slots[ki].block;
-      if (model_.blocks[bi].fixed) continue;
-      const int ni = slot_size(kinds[ki]);
-      for (std::size_t kj = 0; kj < kinds.size(); ++kj) {
-        const int bj = entry.slots[kj].block;
-        if (model_.blocks[bj].fixed) continue;
-        const int nj = slot_size(kinds[kj]);
-        const Mat3 blk = chain_block(bi, bj, padded(t.K.block(offs[ki], offs[kj], ni, nj)),
-                                     padded(t.C.block(offs[ki], offs[kj], ni, nj)),
-                                     padded(t.M.block(offs[ki], offs[kj], ni, nj)));
-        Je.block(offs[ki], offs[kj], ni, nj) = blk.topLeftCorner(ni, nj);
-      }
-    }
-    PetscCall(MatSetValues(J, n, idx.data(), n, idx.data(), Je.data(), ADD_VALUES));
+    PetscCall(add_element_jacobian(static_cast<int>(i), entry, t, cq, cv, ca, direct, J, y));
   }
+  if (direct) PetscCall(fill_.end(J));
 
   auto state_of = [this](int b) -> const BlockState& { return state_[b]; };
   auto state_c_of = [this](int b) -> const BlockState& { return state_c_[b]; };
@@ -531,6 +490,120 @@ PetscErrorCode SystemAssembler::jacobian(const EvaluationPoint& at, const Evalua
   PetscCall(VecRestoreArrayRead(separate_uc_ ? uc_loc_ : u_loc_, &uc));
   PetscCall(MatAssemblyBegin(J, MAT_FINAL_ASSEMBLY));
   PetscCall(MatAssemblyEnd(J, MAT_FINAL_ASSEMBLY));
+  if (!direct) PetscCall(plan_element_fill(J));
+  PetscFunctionReturn(0);
+}
+
+// One element's tangents (K, C, M in its slots' frames) as J blocks rows_I (cq K col_K_J + C col_C_J
+// + M col_M_J) of the blocks' chain maps, the slots' frame offsets O folded into them (a rotation
+// slot sees R O: rows O, columns O^T), in fixed 3 x 3 sizes; a block of a translation, vector or
+// scalar slot has the plain chain (I, I, cv I, ca I).
+PetscErrorCode SystemAssembler::add_element_jacobian(int local, const ElementEntry& entry, const ElementTangents& t,
+                                                     double cq, double cv, double ca, bool direct, Mat J,
+                                                     std::vector<Vec3>& y) {
+  struct SlotMap {
+    int block, n, offset;
+    bool free, plain;
+    Mat3 rows, colK, colC, colM;
+  };
+  PetscFunctionBeginUser;
+  const auto kinds = entry.element->slots();
+  const int ns = static_cast<int>(kinds.size());
+  std::array<SlotMap, 8> maps;
+  if (ns > static_cast<int>(maps.size())) throw std::logic_error("add_element_jacobian: more than 8 slots");
+  int o = 0;
+  for (int k = 0; k < ns; ++k) {
+    SlotMap& m = maps[k];
+    m.block = entry.slots[k].block;
+    m.n = slot_size(kinds[k]);
+    m.offset = o;
+    m.free = !model_.blocks[m.block].fixed;
+    m.plain = kinds[k] != SlotKind::rotation;
+    if (!m.plain) {
+      const BlockChain& c = chain_[m.block];
+      const Mat3& O = entry.slots[k].offset;
+      m.rows = c.rows * O;
+      m.colK = O.transpose() * c.col_K;
+      m.colC = O.transpose() * c.col_C;
+      m.colM = O.transpose() * c.col_M;
+      y[m.block] += O * t.residual.segment<3>(o);
+    }
+    o += m.n;
+  }
+  const int n = o;
+  thread_local RowMajor Je;
+  thread_local std::vector<PetscInt> idx;
+  if (!direct) {
+    Je.setZero(n, n);
+    idx.assign(n, -1);
+    for (int k = 0; k < ns; ++k)
+      if (maps[k].free)
+        for (int i = 0; i < maps[k].n; ++i) idx[maps[k].offset + i] = dofs_.block_dof(maps[k].block) + i;
+  }
+  const PetscInt* plan = direct ? fill_.element_offsets(local) : nullptr;
+  for (int ki = 0; ki < ns; ++ki) {
+    const SlotMap& mi = maps[ki];
+    if (!mi.free) continue;
+    for (int kj = 0; kj < ns; ++kj) {
+      const SlotMap& mj = maps[kj];
+      Mat3 blk = Mat3::Zero();
+      if (mj.free) {
+        Mat3 K3 = Mat3::Zero(), C3 = Mat3::Zero(), M3 = Mat3::Zero();
+        K3.topLeftCorner(mi.n, mj.n) = t.K.block(mi.offset, mj.offset, mi.n, mj.n);
+        C3.topLeftCorner(mi.n, mj.n) = t.C.block(mi.offset, mj.offset, mi.n, mj.n);
+        M3.topLeftCorner(mi.n, mj.n) = t.M.block(mi.offset, mj.offset, mi.n, mj.n);
+        blk = mj.plain ? Mat3(cq * K3 + cv * C3 + ca * M3) : Mat3(cq * K3 * mj.colK + C3 * mj.colC + M3 * mj.colM);
+        if (!mi.plain) blk = mi.rows * blk;
+      }
+      if (!direct) {
+        if (mj.free) Je.block(mi.offset, mj.offset, mi.n, mj.n) = blk.topLeftCorner(mi.n, mj.n);
+        continue;
+      }
+      // The plan lists, row by row of slot i, one position per slot j (-1: fixed column or a row
+      // of another rank).
+      for (int r = 0; r < mi.n; ++r) {
+        const PetscInt at = plan[r * ns + kj];
+        if (!mj.free) continue;
+        if (at >= 0) {
+          double* v = fill_.values(at);
+          for (int c = 0; c < mj.n; ++c) v[c] += blk(r, c);
+        } else {
+          const PetscInt row = dofs_.block_dof(mi.block) + r, col = dofs_.block_dof(mj.block);
+          const PetscInt cols[3] = {col, col + 1, col + 2};
+          const double v[3] = {blk(r, 0), blk(r, 1), blk(r, 2)};  // Mat3 is column-major
+          PetscCall(MatSetValues(J, 1, &row, mj.n, cols, v, ADD_VALUES));
+        }
+      }
+    }
+    if (direct) plan += mi.n * ns;
+  }
+  if (!direct) PetscCall(MatSetValues(J, n, idx.data(), n, idx.data(), Je.data(), ADD_VALUES));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SystemAssembler::plan_element_fill(Mat J) {
+  PetscFunctionBeginUser;
+  PetscCall(fill_.open(J));
+  const std::vector<int>& elements = dofs_.local_elements();
+  try {
+  for (std::size_t i = 0; i < elements.size(); ++i) {
+    const ElementEntry& entry = model_.elements[elements[i]];
+    const auto kinds = entry.element->slots();
+    fill_.start_element();
+    for (std::size_t ki = 0; ki < kinds.size(); ++ki) {
+      const int bi = entry.slots[ki].block;
+      if (model_.blocks[bi].fixed) continue;
+      for (int r = 0; r < slot_size(kinds[ki]); ++r)
+        for (std::size_t kj = 0; kj < kinds.size(); ++kj) {
+          const int bj = entry.slots[kj].block;
+          fill_.add_position(dofs_.block_dof(bi) + r, model_.blocks[bj].fixed ? -1 : dofs_.block_dof(bj));
+        }
+    }
+  }
+  } catch (const std::exception& e) {
+    SETERRQ(comm_, PETSC_ERR_PLIB, "%s", e.what());  // no exception crosses into PETSc
+  }
+  PetscCall(fill_.close());
   PetscFunctionReturn(0);
 }
 

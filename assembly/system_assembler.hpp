@@ -5,6 +5,7 @@
 
 #include "assembly/block_kinematics.hpp"
 #include "assembly/dof_map.hpp"
+#include "assembly/matrix_fill.hpp"
 #include "assembly/model_state.hpp"
 
 #include <petscmat.h>
@@ -93,6 +94,9 @@ class SystemAssembler {
   PetscErrorCode scatter_in(const EvaluationPoint& at);
   PetscErrorCode compute_states(const EvaluationSettings& how, bool with_chain, double cq, double cv, double ca);
   int local_offset(int block) const { return local_block_offset_[block]; }
+  PetscErrorCode add_element_jacobian(int local, const ElementEntry& entry, const ElementTangents& t, double cq,
+                                      double cv, double ca, bool direct, Mat J, std::vector<Vec3>& y);
+  PetscErrorCode plan_element_fill(Mat J);
   void estimate_scales();
 
   const Model& model_;
@@ -122,6 +126,7 @@ class SystemAssembler {
   std::vector<int> buffer_of_;        // per position in local_elements(): its buffer, or -1
   std::vector<VecX> element_residuals_;            // per threaded element
   std::vector<ElementTangents> element_tangents_;  // per threaded element
+  MatrixFill fill_;  // where the elements' blocks sit in the Jacobian, after its first assembly
 };
 
 }  // namespace latticedyn

@@ -101,8 +101,12 @@ TEST_P(AssembledJacobian, MatchesFiniteDifferencesOfTheResidual) {
 
   Mat J;
   ASSERT_EQ(sa.create_matrix(&J), 0);
-  residual(u0, v0, a0);  // loads U, V, A, Uc
+  // A first Jacobian elsewhere fixes the pattern and plans the direct writes into the value
+  // arrays; the one checked is the second, written that way.
+  residual(u0 + Eigen::VectorXd::Constant(n, 0.01), v0, a0);
   EvaluationPoint at{U, V, A, c.end_of_step ? Uc : nullptr, 0.3, 0.4};
+  ASSERT_EQ(sa.jacobian(at, how, 2.0 * c.cq + 1.0, 0.5 * c.cv, 3.0 * c.ca, J), 0);
+  residual(u0, v0, a0);  // loads U, V, A, Uc
   ASSERT_EQ(sa.jacobian(at, how, c.cq, c.cv, c.ca, J), 0);
   const Eigen::MatrixXd Jad = to_dense(J, n);
 

@@ -1,0 +1,104 @@
+// Positions of element blocks in the compressed rows of an AIJ matrix, and writes into them.
+#include "assembly/matrix_fill.hpp"
+
+#include <algorithm>
+#include <cstring>
+#include <stdexcept>
+#include <string>
+
+namespace latticedyn {
+
+PetscErrorCode MatrixFill::open(Mat J) {
+  PetscFunctionBeginUser;
+  ready = false;
+  matrix = nullptr;
+  offsets_.clear();
+  first_.clear();
+  MatType type;
+  PetscCall(MatGetType(J, &type));
+  a_ = b_ = nullptr;
+  garray_ = nullptr;
+  if (std::strcmp(type, MATSEQAIJ) == 0) {
+    a_ = J;
+  } else if (std::strcmp(type, MATMPIAIJ) == 0) {
+    PetscCall(MatMPIAIJGetSeqAIJ(J, &a_, &b_, &garray_));
+  } else {
+    PetscFunctionReturn(0);  // no plan: MatSetValues as before
+  }
+  PetscCall(MatGetOwnershipRange(J, &rstart_, &rend_));
+  PetscCall(MatGetOwnershipRangeColumn(J, &cstart_, &cend_));
+  PetscInt n;
+  PetscBool done;
+  PetscCall(MatGetRowIJ(a_, 0, PETSC_FALSE, PETSC_FALSE, &n, &ia_, &ja_, &done));
+  diagonal_nnz_ = ia_[n];
+  if (b_) PetscCall(MatGetRowIJ(b_, 0, PETSC_FALSE, PETSC_FALSE, &n, &ib_, &jb_, &done));
+  matrix = J;
+  PetscCall(PetscObjectGetId(reinterpret_cast<PetscObject>(J), &id_));
+  PetscCall(MatGetNonzeroState(J, &pattern_));
+  PetscFunctionReturn(0);
+}
+
+bool MatrixFill::ready_for(Mat J) const {
+  if (!ready || J != matrix) return false;
+  PetscObjectId id = 0;
+  PetscObjectState pattern = 0;
+  if (PetscObjectGetId(reinterpret_cast<PetscObject>(J), &id) || MatGetNonzeroState(J, &pattern)) return false;
+  return id == id_ && pattern == pattern_;
+}
+
+void MatrixFill::start_element() { first_.push_back(static_cast<PetscInt>(offsets_.size())); }
+
+void MatrixFill::add_position(PetscInt row, PetscInt col) {
+  if (!matrix) return;
+  if (col < 0 || row < rstart_ || row >= rend_) {
+    offsets_.push_back(-1);
+    return;
+  }
+  const PetscInt lr = row - rstart_;
+  auto missing = [&] {
+    throw std::logic_error("MatrixFill: the matrix has no entry (" + std::to_string(row) + ", " + std::to_string(col) +
+                           ") of the preallocated pattern");
+  };
+  if (col >= cstart_ && col < cend_) {
+    const PetscInt* begin = ja_ + ia_[lr];
+    const PetscInt* end = ja_ + ia_[lr + 1];
+    const PetscInt* it = std::lower_bound(begin, end, col - cstart_);
+    if (it == end || *it != col - cstart_) missing();
+    offsets_.push_back(static_cast<PetscInt>(it - ja_));
+    return;
+  }
+  if (!b_) missing();
+  // The off-diagonal part's columns are positions in garray, which is sorted by global column.
+  const PetscInt* begin = jb_ + ib_[lr];
+  const PetscInt* end = jb_ + ib_[lr + 1];
+  const PetscInt* it = std::lower_bound(begin, end, col, [&](PetscInt k, PetscInt c) { return garray_[k] < c; });
+  if (it == end || garray_[*it] != col) missing();
+  offsets_.push_back(diagonal_nnz_ + static_cast<PetscInt>(it - jb_));
+}
+
+PetscErrorCode MatrixFill::close() {
+  PetscInt n;
+  PetscBool done;
+  PetscFunctionBeginUser;
+  if (!matrix) PetscFunctionReturn(0);
+  PetscCall(MatRestoreRowIJ(a_, 0, PETSC_FALSE, PETSC_FALSE, &n, &ia_, &ja_, &done));
+  if (b_) PetscCall(MatRestoreRowIJ(b_, 0, PETSC_FALSE, PETSC_FALSE, &n, &ib_, &jb_, &done));
+  ready = true;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode MatrixFill::begin(Mat) {
+  PetscFunctionBeginUser;
+  PetscCall(MatSeqAIJGetArray(a_, &diagonal_));
+  if (b_) PetscCall(MatSeqAIJGetArray(b_, &off_diagonal_));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode MatrixFill::end(Mat) {
+  PetscFunctionBeginUser;
+  PetscCall(MatSeqAIJRestoreArray(a_, &diagonal_));
+  if (b_) PetscCall(MatSeqAIJRestoreArray(b_, &off_diagonal_));
+  PetscFunctionReturn(0);
+}
+
+}  // namespace latticedyn
