@@ -359,8 +359,6 @@ PetscErrorCode SystemAssembler::jacobian(const EvaluationPoint& at, const Evalua
   // y: the residual in omega-variables per rotation block, for the derivative of T^T(phi) y.
   std::vector<Vec3> y(model_.blocks.size(), Vec3::Zero());
   const ElementContext ctx{how.load_scale * model_.gravity, at.t, !have_v_ && !have_a_ && cv == 0.0 && ca == 0.0};
-  std::vector<PetscInt> idx;
-  RowMajor Je;
 
   // rows_I (cq K col_K_J + C col_C_J + M col_M_J) on 3x3 blocks (a scalar block uses the top-left
   // entry, the rest stays zero): fixed sizes, no allocation in the element loop.
@@ -368,11 +366,6 @@ PetscErrorCode SystemAssembler::jacobian(const EvaluationPoint& at, const Evalua
     const BlockChain& ci = chain_[bi];
     const BlockChain& cj = chain_[bj];
     return ci.rows * (cq * K * cj.col_K + C * cj.col_C + M * cj.col_M);
-  };
-  auto padded = [](const auto& block) {
-    Mat3 m = Mat3::Zero();
-    m.topLeftCorner(block.rows(), block.cols()) = block;
-    return m;
   };
 
   const std::vector<int>& elements = dofs_.local_elements();
@@ -531,53 +524,77 @@ PetscErrorCode SystemAssembler::add_element_jacobian(int local, const ElementEnt
     o += m.n;
   }
   const int n = o;
-  thread_local RowMajor Je;
-  thread_local std::vector<PetscInt> idx;
+  // The element's block of J: columns through the column blocks' chain maps, then rows through
+  // the row blocks'. Fixed 12 x 12 for the elements of two frames (beams, super trusses), else a
+  // fixed maximum size: no heap traffic either way.
+  using Local = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor, 36, 36>;
+  if (n > 36) throw std::logic_error("add_element_jacobian: more than 36 DoFs");
+  thread_local Local A;
+  A.resize(n, n);
+  auto combine = [&](auto& out, const auto& K, const auto& C, const auto& M) {
+    for (int kj = 0; kj < ns; ++kj) {
+      const SlotMap& mj = maps[kj];
+      if (!mj.free) continue;
+      const int oj = mj.offset;
+      if (mj.plain) {
+        out.middleCols(oj, mj.n) = cq * K.middleCols(oj, mj.n);
+        if (cv != 0.0) out.middleCols(oj, mj.n) += cv * C.middleCols(oj, mj.n);
+        if (ca != 0.0) out.middleCols(oj, mj.n) += ca * M.middleCols(oj, mj.n);
+      } else {
+        const Mat3 colK = cq * mj.colK;
+        out.template middleCols<3>(oj).noalias() = K.template middleCols<3>(oj).lazyProduct(colK);
+        out.template middleCols<3>(oj).noalias() += C.template middleCols<3>(oj).lazyProduct(mj.colC);
+        out.template middleCols<3>(oj).noalias() += M.template middleCols<3>(oj).lazyProduct(mj.colM);
+      }
+    }
+    for (int ki = 0; ki < ns; ++ki) {
+      const SlotMap& mi = maps[ki];
+      if (!mi.free || mi.plain) continue;
+      const Eigen::Matrix<double, 3, Eigen::Dynamic, 0, 3, 36> rowsi = out.middleRows(mi.offset, 3);
+      out.middleRows(mi.offset, 3).noalias() = mi.rows.lazyProduct(rowsi);
+    }
+  };
+  if (n == 12 && ns == 4) {
+    using Map12 = Eigen::Map<const Mat12>;
+    Mat12 A12;
+    combine(A12, Map12(t.K.data()), Map12(t.C.data()), Map12(t.M.data()));
+    A = A12;
+  } else {
+    combine(A, t.K, t.C, t.M);
+  }
   if (!direct) {
-    Je.setZero(n, n);
+    thread_local std::vector<PetscInt> idx;
     idx.assign(n, -1);
     for (int k = 0; k < ns; ++k)
       if (maps[k].free)
         for (int i = 0; i < maps[k].n; ++i) idx[maps[k].offset + i] = dofs_.block_dof(maps[k].block) + i;
+    // Fixed rows and columns go in as -1 indices, which MatSetValues skips.
+    PetscCall(MatSetValues(J, n, idx.data(), n, idx.data(), A.data(), ADD_VALUES));
+    PetscFunctionReturn(0);
   }
-  const PetscInt* plan = direct ? fill_.element_offsets(local) : nullptr;
+  // The plan lists, row by row of each free slot i, one position per slot j (-1: fixed column or
+  // a row of another rank).
+  const PetscInt* plan = fill_.element_offsets(local);
   for (int ki = 0; ki < ns; ++ki) {
     const SlotMap& mi = maps[ki];
     if (!mi.free) continue;
-    for (int kj = 0; kj < ns; ++kj) {
-      const SlotMap& mj = maps[kj];
-      Mat3 blk = Mat3::Zero();
-      if (mj.free) {
-        Mat3 K3 = Mat3::Zero(), C3 = Mat3::Zero(), M3 = Mat3::Zero();
-        K3.topLeftCorner(mi.n, mj.n) = t.K.block(mi.offset, mj.offset, mi.n, mj.n);
-        C3.topLeftCorner(mi.n, mj.n) = t.C.block(mi.offset, mj.offset, mi.n, mj.n);
-        M3.topLeftCorner(mi.n, mj.n) = t.M.block(mi.offset, mj.offset, mi.n, mj.n);
-        blk = mj.plain ? Mat3(cq * K3 + cv * C3 + ca * M3) : Mat3(cq * K3 * mj.colK + C3 * mj.colC + M3 * mj.colM);
-        if (!mi.plain) blk = mi.rows * blk;
-      }
-      if (!direct) {
-        if (mj.free) Je.block(mi.offset, mj.offset, mi.n, mj.n) = blk.topLeftCorner(mi.n, mj.n);
-        continue;
-      }
-      // The plan lists, row by row of slot i, one position per slot j (-1: fixed column or a row
-      // of another rank).
-      for (int r = 0; r < mi.n; ++r) {
-        const PetscInt at = plan[r * ns + kj];
+    for (int r = 0; r < mi.n; ++r, plan += ns) {
+      const double* arow = A.row(mi.offset + r).data();
+      for (int kj = 0; kj < ns; ++kj) {
+        const SlotMap& mj = maps[kj];
         if (!mj.free) continue;
+        const PetscInt at = plan[kj];
         if (at >= 0) {
           double* v = fill_.values(at);
-          for (int c = 0; c < mj.n; ++c) v[c] += blk(r, c);
+          for (int c = 0; c < mj.n; ++c) v[c] += arow[mj.offset + c];
         } else {
           const PetscInt row = dofs_.block_dof(mi.block) + r, col = dofs_.block_dof(mj.block);
           const PetscInt cols[3] = {col, col + 1, col + 2};
-          const double v[3] = {blk(r, 0), blk(r, 1), blk(r, 2)};  // Mat3 is column-major
-          PetscCall(MatSetValues(J, 1, &row, mj.n, cols, v, ADD_VALUES));
+          PetscCall(MatSetValues(J, 1, &row, mj.n, cols, arow + mj.offset, ADD_VALUES));
         }
       }
     }
-    if (direct) plan += mi.n * ns;
   }
-  if (!direct) PetscCall(MatSetValues(J, n, idx.data(), n, idx.data(), Je.data(), ADD_VALUES));
   PetscFunctionReturn(0);
 }
 
