@@ -84,6 +84,9 @@ SystemAssembler::SystemAssembler(const Model& model, MPI_Comm comm)
     block_kinematics(model_.blocks[b], nullptr, nullptr, nullptr, Parametrization::rotation_vector_rates, state_[b]);
     state_c_[b] = state_[b];
   }
+  constrained_.assign(nb, 0);
+  for (int c : dofs_.local_constraints())
+    for (int b : dofs_.constraint_blocks()[c]) constrained_[b] = 1;
   estimate_scales();
 }
 
@@ -218,6 +221,7 @@ PetscErrorCode SystemAssembler::compute_states(const EvaluationSettings& how, bo
       phi_[b] = Vec3(u[o], u[o + 1], u[o + 2]);
       rows_T_[b] = rates ? Mat3(tangent_operator(phi_[b]).transpose()) : Mat3::Identity();
     }
+    if (!constrained_[b]) continue;  // the end-of-step state only enters constraint rows
     if (separate_uc_) {
       block_kinematics(blk, uc + o, nullptr, nullptr, how.param, state_c_[b], with_chain ? &chain_c_[b] : nullptr, cq, cv, ca);
     } else {

@@ -112,6 +112,7 @@ class SystemAssembler {
   Vec root_seq_ = nullptr;
   bool have_v_ = false, have_a_ = false, separate_uc_ = false;
   std::vector<BlockState> state_, state_c_;
+  std::vector<char> constrained_;  // blocks of this rank's constraints: the only users of state_c_
   std::vector<BlockChain> chain_, chain_c_;
   std::vector<Mat3> rows_T_;  // T(phi)^T per block (rotation-vector rates), identity otherwise
   std::vector<Vec3> phi_;     // rotation vectors of needed rotation blocks

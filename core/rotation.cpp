@@ -3,6 +3,8 @@
 #include "core/rotation.hpp"
 
 #include <algorithm>
+#include <initializer_list>
+#include <iterator>
 
 namespace latticedyn {
 
@@ -28,6 +30,24 @@ Vec3 rotation_vector(const Mat3& R) {
   n.normalize();
   if (n.dot(v) < 0.0) n = -n;  // sin(theta) >= 0 on [0, pi]: v points along +n
   return theta * n;
+}
+
+RateCoefficientDerivatives rate_coefficient_derivatives(double x) {
+  // The closed forms cancel like eps / theta^6 (e1) and eps / theta^7 (e2): their Taylor series
+  // (eight terms, truncation < 1e-19 relative at x = 1) up to x = 1.
+  if (x < 1.0) {
+    auto horner = [x](std::initializer_list<double> c) {
+      double r = 0.0;
+      for (auto it = std::rbegin(c); it != std::rend(c); ++it) r = r * x + *it;
+      return r;
+    };
+    return {horner({-1.0 / 180, 1.0 / 3360, -1.0 / 151200, 1.0 / 11975040, -1.0 / 1452971520, 1.0 / 249080832000,
+                    -1.0 / 57164050944000, 1.0 / 16895152834560000}),
+            horner({1.0 / 1260, -1.0 / 30240, 1.0 / 1663200, -1.0 / 155675520, 1.0 / 21794572800, -1.0 / 4234374144000,
+                    1.0 / 1086116967936000, -1.0 / 354798209525760000})};
+  }
+  const double t = std::sqrt(x), s = std::sin(t), c = std::cos(t), t6 = x * x * x;
+  return {(-x * c + 5 * t * s + 8 * c - 8) / (2 * t6), (x * s + 7 * t * c + 8 * t - 15 * s) / (2 * t6 * t)};
 }
 
 Mat3 tangent_inverse_transpose_derivative(const Vec3& phi, const Vec3& m) {

@@ -132,6 +132,13 @@ Mat3T<S> tangent_operator_rate(const Vec3T<S>& phi, const Vec3T<S>& phi_dot) {
   return -k.b * Pd + k.c2 * (Pd * P + P * Pd) + pp * (k.d1 * P + k.d2 * (P * P));
 }
 
+/// The x-derivatives e1 = d1'(x), e2 = d2'(x) (x = |phi|^2) of dT/dt's coefficients: what the
+/// phi-derivative of the angular acceleration T phi_ddot + T_dot phi_dot needs beyond T_dot.
+struct RateCoefficientDerivatives {
+  double e1, e2;
+};
+RateCoefficientDerivatives rate_coefficient_derivatives(double x);
+
 /// Rotation vector of a rotation matrix (log map), |phi| <= pi; robust near 0 and near pi.
 Vec3 rotation_vector(const Mat3& R);
 

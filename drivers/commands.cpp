@@ -11,6 +11,8 @@
 #include <filesystem>
 #include <fstream>
 
+#include <sys/resource.h>
+
 #include <cstdio>
 #include <map>
 #include <memory>
@@ -69,6 +71,25 @@ std::unique_ptr<ResultWriter> open_writer(const Simulation& sim, const CommandOp
   MPI_Bcast(&ok, 1, MPI_INT, 0, comm);
   if (!ok && !is_root(comm)) *error = "the results could not be opened on rank 0";
   return writer;
+}
+
+// Peak resident memory of the largest rank and of all ranks together (getrusage's high-water mark).
+std::string peak_memory(MPI_Comm comm) {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  const double mine = usage.ru_maxrss / 1024.0;  // KiB on Linux
+  double largest = 0.0, total = 0.0;
+  int ranks = 1;
+  MPI_Comm_size(comm, &ranks);
+  MPI_Reduce(&mine, &largest, 1, MPI_DOUBLE, MPI_MAX, 0, comm);
+  MPI_Reduce(&mine, &total, 1, MPI_DOUBLE, MPI_SUM, 0, comm);
+  char buf[160];
+  if (ranks > 1)
+    std::snprintf(buf, sizeof buf, "peak memory: %.0f MiB on the largest of %d ranks, %.0f MiB in all\n", largest, ranks,
+                  total);
+  else
+    std::snprintf(buf, sizeof buf, "peak memory: %.0f MiB\n", largest);
+  return buf;
 }
 
 std::string where_results(const ResultWriter* w) {
@@ -133,6 +154,7 @@ int command_solve(Simulation& sim, const CommandOptions& opt, MPI_Comm comm, boo
     if (!r.completed) error_root(comm, r.message);
     text += buf;
   }
+  text += peak_memory(comm);
   print_root(comm, text + where_results(writer.get()));
   VecDestroy(&U);
   VecDestroy(&V);

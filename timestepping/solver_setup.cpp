@@ -23,7 +23,7 @@ PetscErrorCode set_direct_solver_defaults(KSP ksp) {
 namespace {
 
 struct RoundoffTest {
-  PetscReal reference = 0.0, f0 = 0.0, previous = 0.0;
+  PetscReal reference = 0.0, floor = 0.0, f0 = 0.0, previous = 0.0;
 };
 
 PetscErrorCode roundoff_test(SNES snes, PetscInt it, PetscReal xnorm, PetscReal snorm, PetscReal fnorm,
@@ -35,6 +35,7 @@ PetscErrorCode roundoff_test(SNES snes, PetscInt it, PetscReal xnorm, PetscReal 
     t->f0 = t->previous = fnorm;
     PetscFunctionReturn(0);
   }
+  if (*reason == SNES_CONVERGED_ITERATING && fnorm <= t->floor) *reason = SNES_CONVERGED_FNORM_ABS;
   if (*reason == SNES_CONVERGED_ITERATING && fnorm <= 1e-6 * std::max(t->f0, t->reference) && fnorm > 0.5 * t->previous)
     *reason = SNES_CONVERGED_FNORM_RELATIVE;
   t->previous = fnorm;
@@ -48,10 +49,11 @@ PetscErrorCode destroy_roundoff_test(void* ctx) {
 
 }  // namespace
 
-PetscErrorCode set_roundoff_convergence_test(SNES snes, double reference_force) {
+PetscErrorCode set_roundoff_convergence_test(SNES snes, double reference_force, double floor) {
   PetscFunctionBeginUser;
   auto* test = new RoundoffTest;
   test->reference = reference_force;
+  test->floor = floor;
   PetscCall(SNESSetConvergenceTest(snes, roundoff_test, test, destroy_roundoff_test));
   PetscFunctionReturn(0);
 }

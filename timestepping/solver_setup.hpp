@@ -22,8 +22,10 @@ PetscErrorCode set_direct_solver_defaults(KSP ksp);
 /// step no longer halves it, it has reached the floor set by the stiffest terms (e.g. E A of a
 /// steel bar times machine precision) and further iterations cannot improve it. The reference
 /// force covers a step that starts at that floor already (a time step from a static
-/// equilibrium). Installed with the context it needs.
-PetscErrorCode set_roundoff_convergence_test(SNES snes, double reference_force = 0.0);
+/// equilibrium). A residual at or below `floor` (the assembler's round-off estimate) is converged
+/// whatever the absolute tolerance asked: a -snes_atol below it cannot be met, only stalled at.
+/// Installed with the context it needs.
+PetscErrorCode set_roundoff_convergence_test(SNES snes, double reference_force = 0.0, double floor = 0.0);
 
 /// A snapshot after an accepted step (or the initial state, step 0). U, V are the distributed
 /// coordinates/multipliers and rates in `param`; A may be null.

@@ -229,5 +229,31 @@ TEST(Rotation, TangentInverseTransposeDerivativeMatchesFiniteDifferences) {
   }
 }
 
+// e1, e2 are the x-derivatives of d1, d2: central differences of the coefficients on either side
+// of the series threshold x = 1 and across the coefficients' own threshold x = 1e-2, and the series
+// meets the closed form at x = 1 (both evaluated there).
+TEST(Rotation, RateCoefficientDerivativesAreDerivativesOfTheRateCoefficients) {
+  // Five-point differences with a wide step (d1 and d2 themselves round off at ~1e-12 between
+  // x = 1e-2 and 5e-2, which differences would amplify; there the exact values below instead).
+  for (const double x : {1e-6, 5e-3, 0.5, 0.999, 1.001, 2.0, 6.0, 9.8}) {
+    const double h = std::min(0.25 * x, 0.05);
+    auto d = [](double y) { return rotation_detail::coefficients(y); };
+    const auto p1 = d(x + h), m1 = d(x - h), p2 = d(x + 2 * h), m2 = d(x - 2 * h);
+    const RateCoefficientDerivatives e = rate_coefficient_derivatives(x);
+    EXPECT_NEAR(e.e1, (8 * (p1.d1 - m1.d1) - (p2.d1 - m2.d1)) / (12 * h), 1e-10) << "x = " << x;
+    EXPECT_NEAR(e.e2, (8 * (p1.d2 - m1.d2) - (p2.d2 - m2.d2)) / (12 * h), 1e-10) << "x = " << x;
+  }
+  // 40-digit evaluations of the closed forms (mpmath): e1 = (8 cos t - 8 + 5 t sin t - t^2 cos t) / (2 t^6),
+  // e2 = (t^2 sin t + 7 t cos t + 8 t - 15 sin t) / (2 t^7), t = sqrt(x).
+  EXPECT_NEAR(rate_coefficient_derivatives(0.02).e1, -0.0055496058194378739885, 1e-17);
+  EXPECT_NEAR(rate_coefficient_derivatives(0.02).e2, 0.00079298965843827688990, 1e-18);
+  EXPECT_NEAR(rate_coefficient_derivatives(4.0).e1, -0.0044657271713418171409, 1e-16);
+  EXPECT_NEAR(rate_coefficient_derivatives(4.0).e2, 0.00067059606741214036202, 1e-16);
+  const RateCoefficientDerivatives below = rate_coefficient_derivatives(std::nextafter(1.0, 0.0)),
+                                   at = rate_coefficient_derivatives(1.0);
+  EXPECT_NEAR(below.e1, at.e1, 1e-14);
+  EXPECT_NEAR(below.e2, at.e2, 1e-14);
+}
+
 }  // namespace
 }  // namespace latticedyn
