@@ -102,6 +102,9 @@ GeneralizedAlphaIntegrator::GeneralizedAlphaIntegrator(SystemAssembler& sa, Dyna
                                          1e-8, 1e-14, 25, 100000));
   // Round-off floor: the residual of stiff members cannot fall below machine precision times their
   // forces; the typical stiffness over a millimetre measures it where loads and weights are small.
+  PetscCallAbort(comm, PetscInfo(nullptr, "Newton atol %g (residual floor %g, load %g)\n",
+                                 std::max(settings_.newton_tolerance * sa_.characteristic_load(), sa_.residual_floor()),
+                                 sa_.residual_floor(), sa_.characteristic_load()));
   PetscCallAbort(comm, set_roundoff_convergence_test(snes, std::max(force_scale, 1e-3 * sa_.characteristic_stiffness()),
                                                            sa_.residual_floor()));
   PetscCallAbort(comm, SNESGetKSP(snes, &ksp));

@@ -1,0 +1,171 @@
+#!/usr/bin/python3
+"""Timing studies on the lattice-bays benchmark (benchmarks/lattice_bays.py), one core per rank.
+
+  reuse:   per size, Jacobian reuse settings against fresh Jacobians every Newton iteration: time
+           per step and per Newton iteration, and how far the tip's path moves from the fresh run
+           (the accuracy a reuse setting keeps; probe bay<N>.e2n1, every step).
+  scaling: fresh Jacobians over sizes and rank counts: time per step and per Newton iteration,
+           setup time (process wall minus the dynamics' wall), peak memory per unknown; a PNG of
+           both against the number of unknowns.
+
+  /usr/bin/python3 benchmarks/lattice_bays_study.py reuse --bays 10 640 --reuse 1 5 10 20 --steps 100 \\
+      --out docs/perf/lattice_reuse
+  /usr/bin/python3 benchmarks/lattice_bays_study.py scaling --bays 40 160 640 2560 10240 40960 \\
+      --ranks 1 2 --steps 3 --out docs/perf/lattice_scaling
+
+Writes <out>.csv and <out>.md (and <out>.png for scaling). Runs go to --work (default
+build/lattice_study/), one folder per run; a run whose log exists is not repeated unless --fresh.
+Timings are only worth something on an otherwise idle machine.
+"""
+import argparse
+import csv
+import os
+import re
+import subprocess
+import sys
+import time
+
+import numpy as np
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+SUMMARY = re.compile(r"dynamics completed: (\d+) steps.*?, (\d+) Newton iterations.*?, (\d+) Jacobians.*?wall ([0-9.e+-]+) s")
+MEMORY = re.compile(r"peak memory: (\d+) MiB(?: on the largest of \d+ ranks, (\d+) MiB in all)?")
+UNKNOWNS = re.compile(r"(\d+) unknowns")
+
+
+def run(bays, steps, reuse, ranks, interval, work, binary, fresh):
+    name = f"bays{bays}_r{reuse}_n{ranks}_s{steps}"
+    folder = os.path.join(work, name)
+    os.makedirs(folder, exist_ok=True)
+    model = os.path.join(folder, name + ".yaml")
+    log = os.path.join(folder, "run.log")
+    if fresh or not os.path.exists(log):
+        subprocess.run([sys.executable, os.path.join(ROOT, "benchmarks", "lattice_bays.py"), str(bays), "--steps",
+                        str(steps), "--reuse", str(reuse), "--interval", str(interval), "--out", model], check=True)
+        env = dict(os.environ, OMP_NUM_THREADS="1", OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
+        cmd = [binary, "run", model, "--output", folder, "-assembly_threads", "1"]
+        if ranks > 1:
+            cmd = ["mpiexec", "-n", str(ranks), "--oversubscribe", "--bind-to", "none"] + cmd
+        start = time.monotonic()
+        p = subprocess.run(cmd, env=env, capture_output=True, text=True)
+        wall = time.monotonic() - start
+        with open(log, "w") as f:
+            f.write(p.stdout + p.stderr + f"\nprocess wall {wall:.3f} s\n")
+        if p.returncode != 0:
+            sys.exit(f"{name} failed (exit {p.returncode}); see {log}")
+    text = open(log).read()
+    m = SUMMARY.search(text)
+    if not m:
+        sys.exit(f"{name}: no dynamics summary in {log}")
+    st, newton, jac, wall = int(m.group(1)), int(m.group(2)), int(m.group(3)), float(m.group(4))
+    mem = MEMORY.search(text)
+    peak = float(mem.group(1)) if mem else float("nan")
+    total = float(mem.group(2)) if mem and mem.group(2) else peak
+    process = float(re.search(r"process wall ([0-9.]+) s", text).group(1))
+    unknowns = bays * 24
+    return dict(bays=bays, unknowns=unknowns, ranks=ranks, reuse=reuse, steps=st, newton=newton, jacobians=jac,
+                wall_s=wall, ms_per_step=1e3 * wall / st, ms_per_iteration=1e3 * wall / newton,
+                setup_s=process - wall, peak_mib_largest=peak, peak_mib_total=total,
+                bytes_per_unknown=total * 2**20 / unknowns, probes=os.path.join(folder, name + "_probes.csv"))
+
+
+def tip_path(probes):
+    """Times and positions of the probe (the tip node) from the run's probe table."""
+    data = np.genfromtxt(probes, delimiter=",", names=True)
+    names = data.dtype.names
+    return data["time"], np.column_stack([data[names[1]], data[names[2]], data[names[3]]])
+
+
+def reuse_study(a):
+    rows = []
+    for bays in a.bays:
+        ref = None
+        for reuse in a.reuse:
+            r = run(bays, a.steps, reuse, 1, 0.01, a.work, a.binary, a.fresh)
+            t, p = tip_path(r["probes"])
+            if ref is None:
+                ref = (t, p)
+                r["tip_deviation_mm"] = 0.0
+            else:
+                n = min(len(t), len(ref[0]))
+                r["tip_deviation_mm"] = 1e3 * float(np.max(np.linalg.norm(p[:n] - ref[1][:n], axis=1)))
+            r["tip_travel_mm"] = 1e3 * float(np.max(np.linalg.norm(ref[1] - ref[1][0], axis=1)))
+            rows.append(r)
+            print(f"{bays} bays, reuse {reuse}: {r['ms_per_step']:.3f} ms/step, {r['ms_per_iteration']:.3f} ms/iteration, "
+                  f"{r['newton'] / r['steps']:.2f} iterations and {r['jacobians']} Jacobians, tip {r['tip_deviation_mm']:.2e} mm "
+                  f"from the fresh run (travel {r['tip_travel_mm']:.1f} mm)")
+    keys = ["bays", "unknowns", "reuse", "steps", "newton", "jacobians", "wall_s", "ms_per_step", "ms_per_iteration",
+            "tip_deviation_mm", "tip_travel_mm"]
+    write_table(a.out, rows, keys)
+
+
+def scaling_study(a):
+    rows = []
+    for bays in a.bays:
+        for ranks in a.ranks:
+            r = run(bays, a.steps, 1, ranks, 1000.0, a.work, a.binary, a.fresh)
+            rows.append(r)
+            print(f"{bays} bays ({r['unknowns']} unknowns), {ranks} rank(s): {r['ms_per_step']:.1f} ms/step, "
+                  f"{r['ms_per_iteration']:.1f} ms/iteration, setup {r['setup_s']:.2f} s, "
+                  f"{r['bytes_per_unknown']:.0f} B/unknown")
+    keys = ["bays", "unknowns", "ranks", "steps", "newton", "wall_s", "ms_per_step", "ms_per_iteration", "setup_s",
+            "peak_mib_largest", "peak_mib_total", "bytes_per_unknown"]
+    write_table(a.out, rows, keys)
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, ax = plt.subplots(1, 3, figsize=(15, 4.5))
+    for ranks in sorted(set(r["ranks"] for r in rows)):
+        sel = sorted((r for r in rows if r["ranks"] == ranks), key=lambda r: r["unknowns"])
+        n = [r["unknowns"] for r in sel]
+        ax[0].loglog(n, [r["ms_per_step"] / 1e3 for r in sel], "o-", label=f"per step, {ranks} rank(s)")
+        ax[0].loglog(n, [r["ms_per_iteration"] / 1e3 for r in sel], "s--", label=f"per Newton iteration, {ranks} rank(s)")
+        ax[1].loglog(n, [r["setup_s"] for r in sel], "o-", label=f"{ranks} rank(s)")
+        ax[2].semilogx(n, [r["bytes_per_unknown"] / 1024 for r in sel], "o-", label=f"{ranks} rank(s), all ranks")
+    n = np.array(sorted(set(r["unknowns"] for r in rows)), dtype=float)
+    base = min(rows, key=lambda r: r["unknowns"])
+    ax[0].loglog(n, base["ms_per_step"] / 1e3 * n / n[0], "k:", label="linear")
+    ax[0].set(xlabel="unknowns", ylabel="wall (s)", title="fresh Jacobians, h = 0.01 s")
+    ax[1].set(xlabel="unknowns", ylabel="setup (s)", title="process start to first step")
+    ax[2].set(xlabel="unknowns", ylabel="peak memory (KiB per unknown)", title="peak resident memory")
+    for x in ax:
+        x.grid(True, which="both", alpha=0.3)
+        x.legend(fontsize=8)
+    fig.suptitle("lattice-bays, one core per rank")
+    fig.tight_layout()
+    fig.savefig(a.out + ".png", dpi=110)
+    print(f"wrote {a.out}.png")
+
+
+def write_table(out, rows, keys):
+    os.makedirs(os.path.dirname(os.path.abspath(out)), exist_ok=True)
+    with open(out + ".csv", "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=keys, extrasaction="ignore")
+        w.writeheader()
+        w.writerows(rows)
+    with open(out + ".md", "w") as f:
+        f.write("| " + " | ".join(keys) + " |\n| " + " | ".join("---" for _ in keys) + " |\n")
+        for r in rows:
+            f.write("| " + " | ".join(f"{r[k]:.4g}" if isinstance(r[k], float) else str(r[k]) for k in keys) + " |\n")
+    print(f"wrote {out}.csv, {out}.md")
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("study", choices=["reuse", "scaling"])
+    ap.add_argument("--bays", type=int, nargs="+", required=True)
+    ap.add_argument("--reuse", type=int, nargs="+", default=[1, 5, 10, 20], help="reuse study: the first is the reference")
+    ap.add_argument("--ranks", type=int, nargs="+", default=[1])
+    ap.add_argument("--steps", type=int, default=100)
+    ap.add_argument("--out", required=True, help="path without extension")
+    ap.add_argument("--work", default=os.path.join(ROOT, "build", "lattice_study"))
+    ap.add_argument("--binary", default=os.path.join(ROOT, "build", "drivers", "latticedyn"))
+    ap.add_argument("--fresh", action="store_true", help="rerun even where a log exists")
+    a = ap.parse_args()
+    if a.study == "reuse" and a.reuse[0] != 1:
+        ap.error("the reuse study's first setting is the reference: 1")
+    (reuse_study if a.study == "reuse" else scaling_study)(a)
+
+
+if __name__ == "__main__":
+    main()
