@@ -1,8 +1,6 @@
 #!/usr/bin/env bash
 # Installs the Debian packages latticedyn builds, tests and plots with.
 # Idempotent: packages already present are left alone and apt is not touched at all.
-# libopenblas0-serial replaces the reference BLAS under MUMPS, UMFPACK and LAPACK (Debian's
-# alternatives pick it once installed); the serial build keeps one thread per MPI rank.
 set -euo pipefail
 
 packages=(
@@ -10,7 +8,6 @@ packages=(
   petsc-dev slepc-dev
   libeigen3-dev libhdf5-openmpi-dev libopenmpi-dev openmpi-bin
   libmetis-dev libyaml-cpp-dev
-  libopenblas0-serial
   libgtest-dev libgmock-dev libbenchmark-dev
   python3 python3-numpy python3-h5py python3-matplotlib python3-yaml
   paraview python3-paraview xvfb xauth ffmpeg libgl1-mesa-dri libglx-mesa0
