@@ -10,9 +10,9 @@ namespace latticedyn::io {
 
 namespace {
 constexpr hsize_t kMaxChunkSteps = 64;
-// The file is flushed after every appended step, and a flush writes every chunk that step touched
-// whole: chunks of about 4 kB keep that near the size of the step itself (chunks of 1 MiB wrote a
-// viz dataset's whole chunk, 23 steps of it, at every step: 2 GB for a 60 s crane run).
+// A flush writes every chunk the steps since the last one touched whole: chunks of about 4 kB keep
+// that near the size of those steps (chunks of 1 MiB, flushed after every step, wrote a viz
+// dataset's whole chunk, 23 steps of it, at every step: 2 GB for a 60 s crane run).
 constexpr hsize_t kChunkBytes = hsize_t{1} << 12;
 
 Hid string_type(const Hdf5Context& ctx) {
@@ -139,6 +139,8 @@ Series::Series(hid_t parent, const std::string& name, std::vector<hsize_t> row, 
   const Hid space = ctx.own(H5Screate_simple(rank, dims.data(), max_dims.data()), H5Sclose, what);
   const Hid dcpl = ctx.own(H5Pcreate(H5P_DATASET_CREATE), H5Pclose, what);
   ctx.check(H5Pset_chunk(dcpl.get(), rank, chunk.data()), what);
+  // Every entry is written before it is read: no fill values (HDF5 would zero each new chunk).
+  ctx.check(H5Pset_fill_time(dcpl.get(), H5D_FILL_TIME_NEVER), what);
   ds_ = ctx.own(
       H5Dcreate2(parent, name.c_str(), single ? H5T_IEEE_F32LE : H5T_IEEE_F64LE, space.get(), H5P_DEFAULT, dcpl.get(),
                  H5P_DEFAULT),
@@ -146,10 +148,16 @@ Series::Series(hid_t parent, const std::string& name, std::vector<hsize_t> row, 
   write_string_attribute(ds_.get(), "units", units, ctx);
 }
 
-void Series::append(const double* row) { pending_.insert(pending_.end(), row, row + row_size_); }
+void Series::append(const double* row) {
+  if (single_)
+    pending_single_.insert(pending_single_.end(), row, row + row_size_);
+  else
+    pending_.insert(pending_.end(), row, row + row_size_);
+}
 
 void Series::write_pending(const Hdf5Context& ctx) {
-  const auto rows = static_cast<hsize_t>(pending_.size() / static_cast<std::size_t>(row_size_));
+  const std::size_t entries = single_ ? pending_single_.size() : pending_.size();
+  const auto rows = static_cast<hsize_t>(entries / static_cast<std::size_t>(row_size_));
   if (rows == 0) return;
   const std::string what = "write steps " + std::to_string(written_) + ".." + std::to_string(written_ + rows - 1) +
                            " of '" + name_ + "'";
@@ -166,14 +174,16 @@ void Series::write_pending(const Hdf5Context& ctx) {
             what);
   const Hid mem_space = ctx.own(H5Screate_simple(rank, count.data(), nullptr), H5Sclose, what);
   if (single_) {
-    const std::vector<float> rows_f(pending_.begin(), pending_.end());
-    ctx.check(H5Dwrite(ds_.get(), H5T_NATIVE_FLOAT, mem_space.get(), file_space.get(), H5P_DEFAULT, rows_f.data()), what);
+    ctx.check(H5Dwrite(ds_.get(), H5T_NATIVE_FLOAT, mem_space.get(), file_space.get(), H5P_DEFAULT,
+                       pending_single_.data()),
+              what);
   } else {
     ctx.check(H5Dwrite(ds_.get(), H5T_NATIVE_DOUBLE, mem_space.get(), file_space.get(), H5P_DEFAULT, pending_.data()),
               what);
   }
   written_ += rows;
   pending_.clear();
+  pending_single_.clear();
 }
 
 }  // namespace latticedyn::io

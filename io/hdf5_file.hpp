@@ -93,6 +93,8 @@ class Series {
          const Hdf5Context& ctx, bool single = false);
 
   int row_size() const { return row_size_; }
+  /// Bytes of the entries kept in memory until write_pending().
+  std::size_t pending_bytes() const { return pending_.size() * sizeof(double) + pending_single_.size() * sizeof(float); }
   /// Keeps the next entry (row-major `row`) until write_pending().
   void append(const double* row);
   /// Extends the time axis by the entries appended since the last call and writes them, all in
@@ -105,8 +107,9 @@ class Series {
   std::vector<hsize_t> row_;
   int row_size_ = 0;
   hsize_t written_ = 0;         // entries in the file
-  std::vector<double> pending_;  // entries appended since, row after row
-  bool single_ = false;          // stored as float: converted here (HDF5's conversion is slower)
+  std::vector<double> pending_;        // entries appended since, row after row
+  std::vector<float> pending_single_;  // the same for a series stored as float
+  bool single_ = false;                // stored as float: converted on append (HDF5's conversion is slower)
   Hid ds_;
 };
 

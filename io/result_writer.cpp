@@ -28,6 +28,7 @@ using io::Hid;
 namespace {
 
 constexpr int kFormatVersion = 1;
+constexpr std::size_t kPendingBytes = std::size_t{4} << 20;  // rows kept in memory between writes
 
 [[noreturn]] void os_fail(const std::string& what, const fs::path& path, int err) {
   throw std::runtime_error("ResultWriter: cannot " + what + " '" + path.string() + "': " + std::strerror(err));
@@ -83,6 +84,7 @@ struct ResultWriter::Impl {
   void create_viz();
   void create_state(hsize_t size);
   void compute_step(const ModelState& state);
+  void write_pending();
   void flush();
   void write_probe_header();
   void write_probe_row(const ModelState& state);
@@ -384,7 +386,7 @@ void ResultWriter::Impl::write_probe_row(const ModelState& state) {
     }
   }
   row += "\n";
-  if (std::fputs(row.c_str(), probes) < 0 || std::fflush(probes) != 0) os_fail("write", csv, errno);
+  if (std::fputs(row.c_str(), probes) < 0) os_fail("write", csv, errno);  // flushed with the .h5
 }
 
 ResultWriter::ResultWriter(const Model& model, ResultWriterOptions opts)
@@ -453,18 +455,37 @@ void ResultWriter::append(const ModelState& state) {
   // so a run that is killed leaves a file at most a second behind, whose XDMF names only steps
   // the .h5 has.
   const auto now = std::chrono::steady_clock::now();
-  if (w.steps <= 16 || now - w.flushed >= std::chrono::seconds(1)) w.flush();
+  if (w.steps <= 16 || now - w.flushed >= std::chrono::seconds(1)) {
+    w.write_probe_row(state);
+    w.flush();
+    return;
+  }
   w.write_probe_row(state);
+  // Rows kept longer than a few MiB go to the datasets now (not yet flushed, not yet in the
+  // XDMF): the buffers are then reused in cache instead of growing into fresh pages.
+  std::size_t pending = 0;
+  for (const auto& o : w.outputs) pending += o.series.pending_bytes();
+  if (pending > kPendingBytes) w.write_pending();
+}
+
+void ResultWriter::Impl::write_pending() {
+  try {
+    for (auto& o : outputs) o.series.write_pending(ctx);
+  } catch (...) {
+    broken = true;
+    throw;
+  }
 }
 
 void ResultWriter::Impl::flush() {
+  write_pending();
   try {
-    for (auto& o : outputs) o.series.write_pending(ctx);
     ctx.check(H5Fflush(file.get(), H5F_SCOPE_GLOBAL), "flush the file");
   } catch (...) {
     broken = true;
     throw;
   }
+  if (probes && std::fflush(probes) != 0) os_fail("write", csv, errno);
   if (document) io::replace_file(xdmf, document->text());
   flushed = std::chrono::steady_clock::now();
   unflushed = false;

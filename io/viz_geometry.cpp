@@ -83,7 +83,7 @@ VizGeometry VizGeometry::plan(const ModelState& state) {
 void VizGeometry::points(const ModelState& state, const std::vector<ElementOutput>& elements,
                          std::vector<double>& xyz) const {
   const Model& model = state.model();
-  xyz.assign(3 * static_cast<std::size_t>(num_points()), 0.0);
+  xyz.resize(3 * static_cast<std::size_t>(num_points()));  // every point is written below
   for (std::size_t e = 0; e < model.elements.size(); ++e) {
     const Element& element = *model.elements[e].element;
     const auto& polylines = elements.at(e).polylines;
@@ -97,14 +97,14 @@ void VizGeometry::points(const ModelState& state, const std::vector<ElementOutpu
     int at = element_first_[e];
     for (std::size_t k = 0; k < polylines.size(); ++k) {
       for (int i = 0; i < axis_count_[e][k]; ++i)
-        std::copy(polylines[k][i].data(), polylines[k][i].data() + 3, xyz.data() + 3 * (at + i));
+        Eigen::Map<Vec3>(xyz.data() + 3 * (at + i)) = polylines[k][i];
       at += axis_count_[e][k];
     }
   }
   for (std::size_t k = 0; k < frame_points_.size(); ++k) {
     const FramePoint& p = frame_points_[k];
-    const Vec3 x = p.joint ? state.joint_position(p.index) : state.block(p.index).pos;
-    std::copy(x.data(), x.data() + 3, xyz.data() + 3 * (first_frame_point_ + k));
+    Eigen::Map<Vec3>(xyz.data() + 3 * (first_frame_point_ + k)) =
+        p.joint ? state.joint_position(p.index) : state.block(p.index).pos;
   }
 }
 

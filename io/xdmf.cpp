@@ -3,6 +3,7 @@
 #include "io/xdmf.hpp"
 
 #include <cerrno>
+#include <charconv>
 #include <cstdio>
 #include <cstring>
 #include <stdexcept>
@@ -122,9 +123,11 @@ void replace_file(const std::filesystem::path& path, const std::string& text) {
 }
 
 std::string format_double(double x) {
+  // The shortest text that reads back as the same double (std::to_chars, about ten times cheaper
+  // than printf's %.17g, which also prints digits that carry nothing: 0.1 as 0.10000000000000001).
   char buf[32];
-  std::snprintf(buf, sizeof buf, "%.17g", x);
-  return buf;
+  const auto [end, ec] = std::to_chars(buf, buf + sizeof buf, x);
+  return std::string(buf, ec == std::errc{} ? end : buf);
 }
 
 }  // namespace latticedyn::io

@@ -43,7 +43,7 @@ class XdmfDocument {
 /// the path and the OS reason.
 void replace_file(const std::filesystem::path& path, const std::string& text);
 
-/// %.17g: the shortest format that reads back to the same double.
+/// The shortest decimal text that reads back to the same double.
 std::string format_double(double x);
 
 }  // namespace latticedyn::io

@@ -455,7 +455,7 @@ TEST(ResultWriter, RoundTripOfThreeSteps) {
   for (int k = 0; k < 3; ++k) {
     const ModelState& s = run.states[k];
     EXPECT_EQ(std::stod(csv[k + 1][0]), times[k]);
-    EXPECT_EQ(std::stod(csv[k + 1][2]), s.joint_position(probe_d).y());  // %.17g reads back exactly
+    EXPECT_EQ(std::stod(csv[k + 1][2]), s.joint_position(probe_d).y());  // the shortest round-trip text reads back exactly
     EXPECT_EQ(std::stod(csv[k + 1][12]), s.joint_velocity(probe_a).z());
   }
 }
