@@ -5,6 +5,7 @@
 #include "assembly/system_assembler.hpp"
 
 #include "assembly/element_loop.hpp"
+#include "assembly/log_events.hpp"
 #include "assembly/matrix_fill.hpp"
 #include "assembly/nodal_load.hpp"
 #include "core/rotation.hpp"
@@ -249,6 +250,8 @@ PetscErrorCode SystemAssembler::residual(const EvaluationPoint& at, const Evalua
 
   const ElementContext ctx{how.load_scale * model_.gravity, at.t};
   const std::vector<int>& elements = dofs_.local_elements();
+  const LogEvents& events = log_events();
+  PetscCall(PetscLogEventBegin(events.element_residual, 0, 0, 0, 0));
   auto evaluate = [&](int i, VecX& re) {
     const ElementEntry& entry = model_.elements[elements[i]];
     thread_local std::vector<SlotState<double>> slots;
@@ -279,7 +282,9 @@ PetscErrorCode SystemAssembler::residual(const EvaluationPoint& at, const Evalua
       o += n;
     }
   }
+  PetscCall(PetscLogEventEnd(events.element_residual, 0, 0, 0, 0));
 
+  PetscCall(PetscLogEventBegin(events.constraints, 0, 0, 0, 0));
   auto state_of = [this](int b) -> const BlockState& { return state_[b]; };
   auto state_c_of = [this](int b) -> const BlockState& { return state_c_[b]; };
   for (int l : dofs_.local_loads()) {
@@ -325,6 +330,7 @@ PetscErrorCode SystemAssembler::residual(const EvaluationPoint& at, const Evalua
       for (int j = 0; j < ce.rows; ++j) r[mo + j] = how.constraint_scale * cc.g(j);
     }
   }
+  PetscCall(PetscLogEventEnd(events.constraints, 0, 0, 0, 0));
 
   // Rows of rotation blocks: from omega-variables to phi via T^T (identity for velocity variables).
   if (how.param == Parametrization::rotation_vector_rates)
@@ -373,6 +379,8 @@ PetscErrorCode SystemAssembler::jacobian(const EvaluationPoint& at, const Evalua
   };
 
   const std::vector<int>& elements = dofs_.local_elements();
+  const LogEvents& events = log_events();
+  PetscCall(PetscLogEventBegin(events.element_jacobian, 0, 0, 0, 0));
   auto evaluate = [&](int i, ElementTangents& t) {
     const ElementEntry& entry = model_.elements[elements[i]];
     thread_local std::vector<SlotState<double>> slots;
@@ -393,6 +401,8 @@ PetscErrorCode SystemAssembler::jacobian(const EvaluationPoint& at, const Evalua
     PetscCall(add_element_jacobian(static_cast<int>(i), entry, t, cq, cv, ca, direct, J, y));
   }
   if (direct) PetscCall(fill_.end(J));
+  PetscCall(PetscLogEventEnd(events.element_jacobian, 0, 0, 0, 0));
+  PetscCall(PetscLogEventBegin(events.constraints, 0, 0, 0, 0));
 
   auto state_of = [this](int b) -> const BlockState& { return state_[b]; };
   auto state_c_of = [this](int b) -> const BlockState& { return state_c_[b]; };
@@ -473,6 +483,8 @@ PetscErrorCode SystemAssembler::jacobian(const EvaluationPoint& at, const Evalua
     }
     for (int j = 0; j < m; ++j) PetscCall(MatSetValue(J, mult[j], mult[j], 0.0, ADD_VALUES));
   }
+
+  PetscCall(PetscLogEventEnd(events.constraints, 0, 0, 0, 0));
 
   // d(T^T y)/dphi on the diagonal blocks of rotation coordinates.
   if (rates && cq != 0.0)

@@ -1,6 +1,8 @@
 // Output at intervals and the progress line.
 #include "drivers/observers.hpp"
 
+#include "assembly/log_events.hpp"
+
 #include <unistd.h>
 
 #include <cmath>
@@ -13,8 +15,10 @@ OutputObserver::OutputObserver(SystemAssembler& sa, ResultWriter* writer, double
 
 PetscErrorCode OutputObserver::write(double t, Vec U, Vec V, Vec A, Parametrization param) {
   PetscFunctionBeginUser;
+  PetscCall(PetscLogEventBegin(log_events().output, 0, 0, 0, 0));
   PetscCall(sa_.gather(t, U, V, A, param, &state_));
   if (writer_) PetscCallCXX(writer_->append(state_));
+  PetscCall(PetscLogEventEnd(log_events().output, 0, 0, 0, 0));
   last_written_ = t;
   ++written_;
   PetscFunctionReturn(0);
