@@ -24,6 +24,7 @@ using Vec12 = Eigen::Matrix<double, 12, 1>;
 using Row12 = Eigen::Matrix<double, 1, 12>;
 using Mat12 = Eigen::Matrix<double, 12, 12>;
 using Mat312 = Eigen::Matrix<double, 3, 12>;  ///< a 3-vector's derivative in the 12 DoFs of two frames
+using Mat123 = Eigen::Matrix<double, 12, 3>;  ///< its transpose
 using VecX = Eigen::VectorXd;
 using MatX = Eigen::MatrixXd;
 

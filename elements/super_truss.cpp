@@ -122,26 +122,21 @@ void SuperTrussElement::add_members(const Evaluation& ev, int first, int last, M
 }
 
 void SuperTrussElement::add_translational_inertia(std::span<const SlotState<double>> s, const ElementContext& ctx,
-                                                  Vec12& r, ElementTangents* t) const {
+                                                  Vec12& r, LocalTangents* t) const {
   const EndFrames f{s.data()};
   for (const auto& [a, b] : mass_points_) {
     const Vec3 acc = acceleration(b, f);
     add_point_force(a, f, acc, r);
     if (!t || ctx.at_rest) continue;  // at rest the accelerations and their tangents vanish
-    const Mat312 Ja = jacobian(a, f);
-    t->M += Ja.transpose() * jacobian(b, f);
-    t->C += Ja.transpose() * acceleration_velocity_derivative(b, f);
-    t->K += Ja.transpose() * acceleration_position_derivative(b, f);
-    Mat12 Kg = Mat12::Zero();
-    add_point_force_geometric(a, f, acc, Kg);
-    t->K += Kg;
+    const Mat123 JaT = jacobian(a, f).transpose();
+    // Coefficient-wise products (lazyProduct): at 12 x 3 x 12 Eigen's blocked GEMM costs more.
+    t->M.noalias() += JaT.lazyProduct(jacobian(b, f));
+    t->C.noalias() += JaT.lazyProduct(acceleration_velocity_derivative(b, f));
+    t->K.noalias() += JaT.lazyProduct(acceleration_position_derivative(b, f));
+    add_point_force_geometric(a, f, acc, t->K);
   }
   add_point_force(weight_point_, f, Vec3(-ctx.gravity), r);
-  if (t) {
-    Mat12 Kg = Mat12::Zero();
-    add_point_force_geometric(weight_point_, f, Vec3(-ctx.gravity), Kg);
-    t->K += Kg;
-  }
+  if (t) add_point_force_geometric(weight_point_, f, Vec3(-ctx.gravity), t->K);
 }
 
 void SuperTrussElement::evaluate(std::span<const SlotState<double>> s, const ElementContext& ctx, Vec12& r,
@@ -154,7 +149,7 @@ void SuperTrussElement::evaluate(std::span<const SlotState<double>> s, const Ele
   ev.Jp.resize(nn);
   ev.Jw.resize(nn);
   ev.internal_of.assign(nn, -1);
-  internal_rotations(map_, s, ev.rot);
+  internal_rotations(map_, s, ev.rot, t ? RotationDetail::jacobians : RotationDetail::gradients);
   const std::vector<int>& internal = map_.internal_nodes();
   for (std::size_t k = 0; k < internal.size(); ++k) ev.internal_of[internal[k]] = static_cast<int>(k);
   for (int n = 0; n < nn; ++n) {
@@ -163,11 +158,11 @@ void SuperTrussElement::evaluate(std::span<const SlotState<double>> s, const Ele
     if (t) ev.Jp[n] = jacobian(nd.point, f);  // the residual projects node forces without it
     if (nd.end != 0) {
       ev.R[n] = s[nd.end == 1 ? 1 : 3].rot;
-      ev.Jw[n] = end_rotation_jacobian(nd.end);
+      if (t) ev.Jw[n] = end_rotation_jacobian(nd.end);
     } else {
       const InternalRotation& o = ev.rot[ev.internal_of[n]];
       ev.R[n] = o.A * o.C;
-      ev.Jw[n] = o.Jw;
+      if (t) ev.Jw[n] = o.Jw;
     }
   }
 
@@ -197,12 +192,15 @@ void SuperTrussElement::evaluate(std::span<const SlotState<double>> s, const Ele
   }
 
   r.setZero();
+  // Tangents accumulate in fixed-size matrices, copied to t at the end.
+  LocalTangents local;
+  LocalTangents* lt = t ? &local : nullptr;
   if (t) {
-    t->K = loads.K;
-    t->C.setZero();
-    t->M.setZero();
+    local.K = loads.K;
+    local.C.setZero();
+    local.M.setZero();
   }
-  add_translational_inertia(s, ctx, r, t);
+  add_translational_inertia(s, ctx, r, lt);
   // Node forces through the positions' Jacobians, with the map's second derivatives.
   Mat12 Kg = Mat12::Zero();
   for (int n = 0; n < nn; ++n) {
@@ -215,8 +213,8 @@ void SuperTrussElement::evaluate(std::span<const SlotState<double>> s, const Ele
     const Vec3 &w = s[2 * i + 1].vel, &dw = s[2 * i + 1].acc;
     r.segment<3>(6 * i + 3) += J * dw + w.cross(J * w);
     if (t) {
-      t->M.block<3, 3>(6 * i + 3, 6 * i + 3) += J;
-      t->C.block<3, 3>(6 * i + 3, 6 * i + 3) += skew<double>(w) * J - skew<double>(Vec3(J * w));
+      local.M.block<3, 3>(6 * i + 3, 6 * i + 3) += J;
+      local.C.block<3, 3>(6 * i + 3, 6 * i + 3) += skew<double>(w) * J - skew<double>(Vec3(J * w));
     }
   }
   for (int n = 0; n < nn; ++n)
@@ -242,8 +240,11 @@ void SuperTrussElement::evaluate(std::span<const SlotState<double>> s, const Ele
     const Mat3& Tdot = o.Tdot;
     const Vec3 dw = o.C.transpose() * dwA + u.cross(Omega) + Tdot * o.ydot + o.T * o.yddot;
     const Vec3 Mt = loads.M[n] + J * dw + w.cross(J * w);
+    if (!t) {
+      r += internal_node_moment(o, F, Mt);
+      continue;
+    }
     r += o.Jw.transpose() * Mt;
-    if (!t) continue;
     Mat3 dT[2], ddT[3];
     cardan_zyx_tangent_derivatives(o.sphi, o.cphi, o.spsi, o.cpsi, dT, ddT);
     const Mat312 TY = o.T * o.Y;
@@ -281,21 +282,24 @@ void SuperTrussElement::evaluate(std::span<const SlotState<double>> s, const Ele
       }
       const Mat312 dw_v = -skew<double>(Omega) * CE1 + skew<double>(u) * TY + (Tdot + Dyd) * o.Y + o.T * Hdq2;
       const Mat3 G = skew<double>(w) * J - skew<double>(Vec3(J * w));
-      t->K += o.Jw.transpose() * (J * dw_q + G * w_q);
-      t->C += o.Jw.transpose() * (J * dw_v + G * o.Jw);
-      t->M += o.Jw.transpose() * J * o.Jw;
+      const Mat123 JwT = o.Jw.transpose();
+      local.K.noalias() += JwT.lazyProduct(Mat312(J * dw_q + G * w_q));
+      local.C.noalias() += JwT.lazyProduct(Mat312(J * dw_v + G * o.Jw));
+      local.M.noalias() += JwT.lazyProduct(Mat312(J * o.Jw));
     }
     // The map's second derivatives against Mt: through C, through T and through the angles.
     Kg.middleRows<3>(3) -= (F * o.C * skew<double>(Mt)) * TY;
     Mat3 Q = Mat3::Zero();
     Q.col(0) = dT[0].transpose() * Mt;
     Q.col(1) = dT[1].transpose() * Mt;
-    Kg += o.Y.transpose() * Q * o.Y;
+    Kg.noalias() += o.Y.transpose().lazyProduct(Mat312(Q * o.Y));
     angle_weights[k] = o.T.transpose() * Mt;
   }
   if (t) {
     add_expanded(contracted_angle_hessian(map_, s, ev.rot, angle_weights), Kg);
-    t->K += Kg;
+    t->K = local.K + Kg;
+    t->C = local.C;
+    t->M = local.M;
   }
 }
 
@@ -332,7 +336,7 @@ void SuperTrussElement::output(std::span<const SlotState<double>> s, const Eleme
   // Node poses once, then every member's co-rotational frame once: strain energy, axial force and
   // drawn axis from it.
   thread_local std::vector<InternalRotation> rot;
-  internal_rotations(map_, s, rot);
+  internal_rotations(map_, s, rot, RotationDetail::frames);
   const int nn = map_.num_nodes();
   thread_local std::vector<Vec3> p;
   thread_local std::vector<Mat3> R;
@@ -347,7 +351,8 @@ void SuperTrussElement::output(std::span<const SlotState<double>> s, const Eleme
   for (std::size_t k = 0; k < internal.size(); ++k) {
     const InternalRotation& o = rot[k];
     R[internal[k]] = o.A * o.C;
-    const Vec3 w = o.Jw * dq;
+    const Mat3& F = map_.main_beams()[map_.node(internal[k]).main_beam].frame;
+    const Vec3 w = o.C.transpose() * (F.transpose() * s[1].vel) + o.T * o.ydot;  // = Jw dq
     e.kinetic += 0.5 * w.dot(lumped_.rotary[internal[k]] * w);
   }
   const int nm = num_members();

@@ -93,8 +93,11 @@ class SuperTrussElement final : public Element {
   struct MemberLoads;
   void evaluate(std::span<const SlotState<double>> s, const ElementContext& ctx, Vec12& r, ElementTangents* t) const;
   void add_members(const Evaluation& kinematics, int first, int last, MemberLoads& out, bool tangent) const;
+  struct LocalTangents {
+    Mat12 K, C, M;
+  };
   void add_translational_inertia(std::span<const SlotState<double>> s, const ElementContext& ctx, Vec12& r,
-                                 ElementTangents* t) const;
+                                 LocalTangents* t) const;
 
   TrussSectionSpec spec_;
   TrussGeometry geometry_;

@@ -79,8 +79,19 @@ Mat3 value_of(const Mat3T<Jet<double>>& m) {
 
 }  // namespace
 
+Vec12 internal_node_moment(const InternalRotation& o, const Mat3& F, const Vec3& v) {
+  // Jw = T Y + [0, C^T F^T, 0, 0] with the rows of Y expand_row(dphi), expand_row(gpsi dm),
+  // expand_row(gtheta dm): Y^T u = expand_row(u0 dphi + (u1 gpsi + u2 gtheta) dm)^T, u = T^T v.
+  const Vec3 u = o.T.transpose() * v;
+  const Row9 g = u(0) * o.dphi + (u(1) * o.gpsi + u(2) * o.gtheta) * o.dm;
+  Vec12 out = expand_row(g).transpose();
+  out.segment<3>(3) += F * (o.C * v);
+  return out;
+}
+
 void internal_rotations(const SuperTrussMap& map, std::span<const SlotState<double>> s,
-                        std::vector<InternalRotation>& out) {
+                        std::vector<InternalRotation>& out, RotationDetail detail) {
+  const bool gradients = detail != RotationDetail::frames;
   const Mat3 &R1 = s[1].rot, &R2 = s[3].rot;
   const Vec3 d = s[2].pos - s[0].pos;
   // The relative pose and its rates, from jets along the current motion.
@@ -101,7 +112,7 @@ void internal_rotations(const SuperTrussMap& map, std::span<const SlotState<doub
     const Mat3 C12 = FtQ * F;
     const double c21 = C12(2, 1), c22 = C12(2, 2), q = c21 * c21 + c22 * c22;
     Row9 dphi12 = Row9::Zero();
-    for (int l = 0; l < 3; ++l) {
+    for (int l = 0; gradients && l < 3; ++l) {
       const Mat3 Sl = skew<double>(Vec3(Vec3::Unit(l)));
       const Mat3 dA = -Sl * C12, dB = C12 * Sl;
       const double gA = (c22 * dA(2, 1) - c21 * dA(2, 2)) / q, gB = (c22 * dB(2, 1) - c21 * dB(2, 2)) / q;
@@ -134,6 +145,9 @@ void internal_rotations(const SuperTrussMap& map, std::span<const SlotState<doub
       Rx << 1, 0, 0, 0, o.cphi, -o.sphi, 0, o.sphi, o.cphi;
       o.C = Rzy * Rx;
       o.T << 1, 0, -o.spsi, 0, o.cphi, o.sphi * o.cpsi, 0, -o.sphi, o.cphi * o.cpsi;
+      o.A = A;
+      o.m = m;
+      if (!gradients) continue;
       const double dphi = o.ydot(0), dpsi = o.ydot(1);
       o.Tdot << 0, 0, -o.cpsi * dpsi, 0, -o.sphi * dphi, o.cphi * o.cpsi * dphi - o.sphi * o.spsi * dpsi, 0,
           -o.cphi * dphi, -o.sphi * o.cpsi * dphi - o.cphi * o.spsi * dpsi;
@@ -141,14 +155,16 @@ void internal_rotations(const SuperTrussMap& map, std::span<const SlotState<doub
       const Vec3 w = dloc * nd.g2 + Q * nd.t2;
       const Eigen::RowVector3d gtheta(-m(1) / rho2, m(0) / rho2, 0.0);
       const Eigen::RowVector3d gpsi(m(2) * m(0) / (rho * mm), m(2) * m(1) / (rho * mm), -rho / mm);
-      o.m = m;
       o.dm.block<3, 3>(0, 0) = nd.g2 * dm_d;
       o.dm.block<3, 3>(0, 3) = Ft * skew<double>(w);
       o.dm.block<3, 3>(0, 6) = -FtQ * skew<double>(nd.t2);
-      o.Y.row(0) = expand_row(nd.xi * dphi12);
+      o.dphi = nd.xi * dphi12;
+      o.gpsi = gpsi;
+      o.gtheta = gtheta;
+      if (detail != RotationDetail::jacobians) continue;
+      o.Y.row(0) = expand_row(o.dphi);
       o.Y.row(1) = expand_row(gpsi * o.dm);
       o.Y.row(2) = expand_row(gtheta * o.dm);
-      o.A = A;
       o.Jw.noalias() = o.T * o.Y;
       o.Jw.block<3, 3>(0, 3) += o.C.transpose() * Ft;
     }

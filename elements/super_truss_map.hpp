@@ -108,23 +108,41 @@ class SuperTrussMap {
 /// Jacobian Jw = C^T E1 + T Y (E1 dq = F^T w1), the angle rates y', y'' of the current motion, and
 /// A = R1 F (R_n = A C).
 struct InternalRotation {
+  // Filled whole by internal_rotations: an empty constructor keeps std::vector::resize from zeroing
+  // a kilobyte per node each time one thread's scratch moves between elements of different sizes.
+  InternalRotation() {}
   double sphi, cphi, spsi, cpsi;
   Vec3 ydot, yddot;
-  Mat3 C, T, Tdot, A;
-  Mat312 Y, Jw;
+  Mat3 C, T, A;
   Vec3 m;                              ///< the main beam's tangent in A (theta, psi its direction)
+  // RotationDetail::gradients and more:
+  Mat3 Tdot;
   Eigen::Matrix<double, 3, 9> dm;      ///< dm/d(d, delta_1, delta_2)
+  Row9 dphi;                           ///< the twist angle's gradient in (d, delta_1, delta_2)
+  Eigen::RowVector3d gpsi, gtheta;     ///< dpsi/dm, dtheta/dm
+  // RotationDetail::jacobians:
+  Mat312 Y, Jw;
 };
+
+/// Jw^T v: a moment v on an internal node's frame as generalized force on the 12 DoFs (virtual
+/// power), from the angles' gradients without forming Y and Jw; F is its main beam's frame.
+Vec12 internal_node_moment(const InternalRotation& o, const Mat3& F, const Vec3& v);
 
 /// What the tangents of the rotary inertia need beyond InternalRotation: the derivatives of y' and
 /// y'' under a right perturbation of the state at fixed rates (d(y', y'')/d eps).
 struct InternalRotationTangent {
+  InternalRotationTangent() {}  // filled whole: no zeroing on resize
   Mat312 dydot, dyddot;
 };
 
-/// Evaluations of the map's internal rotations at the slots' state.
+/// How much of InternalRotation an evaluation needs: the frames and angle rates (output: drawing
+/// and energies), the angles' gradients as well (the residual projects moments with them), or the
+/// Jacobians Y and Jw too (tangents).
+enum class RotationDetail { frames, gradients, jacobians };
+
+/// Evaluations of the map's internal rotations at the slots' state, to the detail asked for.
 void internal_rotations(const SuperTrussMap& map, std::span<const SlotState<double>> s,
-                        std::vector<InternalRotation>& out);
+                        std::vector<InternalRotation>& out, RotationDetail detail = RotationDetail::jacobians);
 void internal_rotation_tangents(const SuperTrussMap& map, std::span<const SlotState<double>> s,
                                 std::vector<InternalRotationTangent>& out);
 
