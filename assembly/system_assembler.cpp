@@ -164,6 +164,26 @@ PetscErrorCode SystemAssembler::create_matrix(Mat* m) const {
   PetscCall(MatSeqAIJSetPreallocation(*m, 0, dn.data()));
   PetscCall(MatMPIAIJSetPreallocation(*m, 0, dn.data(), 0, on.data()));
   PetscCall(MatSetOption(*m, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE));
+  std::vector<char> stiffened(model_.blocks.size(), 0);
+  for (const ElementEntry& e : model_.elements)
+    for (const SlotBinding& s : e.slots) stiffened[s.block] = 1;
+  std::vector<PetscInt> frames, multipliers;
+  for (std::size_t b = 0; b < model_.blocks.size(); ++b) {
+    const int g = dofs_.block_dof(static_cast<int>(b));
+    if (stiffened[b] || g < dofs_.owned_begin() || g >= dofs_.owned_end()) continue;
+    for (int i = 0; i < model_.blocks[b].size(); ++i) frames.push_back(g + i);
+  }
+  for (std::size_t c = 0; c < model_.constraints.size(); ++c) {
+    const int g = dofs_.multiplier_dof(static_cast<int>(c));
+    if (g < dofs_.owned_begin() || g >= dofs_.owned_end()) continue;
+    for (int i = 0; i < model_.constraints[c].rows(); ++i) multipliers.push_back(g + i);
+  }
+  for (const auto& [name, rows] : {std::pair{kUnstiffenedRows, &frames}, std::pair{kMultiplierRows, &multipliers}}) {
+    IS is;
+    PetscCall(ISCreateGeneral(PETSC_COMM_SELF, static_cast<PetscInt>(rows->size()), rows->data(), PETSC_COPY_VALUES, &is));
+    PetscCall(PetscObjectCompose((PetscObject)*m, name, (PetscObject)is));
+    PetscCall(ISDestroy(&is));
+  }
   PetscFunctionReturn(0);
 }
 

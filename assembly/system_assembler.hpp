@@ -41,6 +41,12 @@ struct EvaluationSettings {
   double baumgarte_beta = 1.0;
 };
 
+/// Names under which create_matrix's matrices carry ISs of their owned rows that have no mass or
+/// stiffness of their own: the multipliers', and those of frames no element touches (held by
+/// constraints alone). A pivoting-free LU orders them behind the rows they couple to.
+inline constexpr const char* kMultiplierRows = "latticedyn_multiplier_rows";
+inline constexpr const char* kUnstiffenedRows = "latticedyn_unstiffened_rows";
+
 class SystemAssembler {
  public:
   SystemAssembler(const Model& model, MPI_Comm comm);

@@ -6,6 +6,8 @@
 // oscillate step to step.
 #include "timestepping/generalized_alpha.hpp"
 
+#include "timestepping/native_lu.hpp"
+
 #include <chrono>
 #include <cstdio>
 #include <limits>
@@ -108,20 +110,19 @@ GeneralizedAlphaIntegrator::GeneralizedAlphaIntegrator(SystemAssembler& sa, Dyna
   PetscCallAbort(comm, set_roundoff_convergence_test(snes, std::max(force_scale, 1e-3 * sa_.characteristic_stiffness()),
                                                            sa_.residual_floor()));
   PetscCallAbort(comm, SNESGetKSP(snes, &ksp));
+  ksp_ = ksp;
   PetscCallAbort(comm, set_direct_solver_defaults(ksp));
   if (P_) {
     PC pc;
     PetscCallAbort(comm, KSPGetPC(ksp, &pc));
     PetscCallAbort(comm, PCFactorSetMatSolverType(pc, MATSOLVERPETSC));
-  } else if (ranks == 1 && sa_.dofs().num_multipliers() == 0 && !solver_chosen && !pc_chosen) {
-    // Without multipliers the iteration matrix M a_m/(a_f beta h^2) + C gamma/(beta h) + K has its
-    // mass on the diagonal and needs no pivoting: PETSc's own LU in reverse Cuthill-McKee order
-    // then factors a lattice 2.5-3x faster than UMFPACK, whose frontal machinery costs more than it
-    // saves on small fronts (640-bay lattice: 14 against 42 ms; docs/performance.md).
-    PC pc;
-    PetscCallAbort(comm, KSPGetPC(ksp, &pc));
-    PetscCallAbort(comm, PCFactorSetMatSolverType(pc, MATSOLVERPETSC));
-    PetscCallAbort(comm, PCFactorSetMatOrderingType(pc, MATORDERINGRCM));
+  } else if (ranks == 1 && !solver_chosen && !pc_chosen) {
+    // The iteration matrix M a_m/(a_f beta h^2) + C gamma/(beta h) + K has its mass on the
+    // diagonal, and with every multiplier ordered after its constraint's unknowns no pivot is zero:
+    // PETSc's own LU then factors lattices and cranes several times faster than UMFPACK, whose
+    // frontal machinery costs more than it saves on small fronts (640-bay lattice: 14 against
+    // 42 ms; the full crane: docs/performance.md). A failed factorisation switches to UMFPACK.
+    PetscCallAbort(comm, use_native_lu(ksp));
   }
   if (settings_.jacobian_reuse > 1) PetscCallAbort(comm, SNESMonitorSet(snes, watch_contraction, this, nullptr));
   PetscCallAbort(comm, PetscOptionsGetBool(nullptr, nullptr, "-dyn_predictor", &predictor_, nullptr));
@@ -197,6 +198,9 @@ PetscErrorCode GeneralizedAlphaIntegrator::i2jacobian(TS, PetscReal t, Vec U, Ve
   PetscFunctionBeginUser;
   double inertia;
   PetscCall(self->stage(t, U, V, A, &at, &how, &inertia));
+  PetscBool switched;
+  PetscCall(fall_back_after_failed_factorisation(self->ksp_, &switched));
+  if (switched) self->reuse_count_ = self->settings_.jacobian_reuse;  // a fresh matrix for the new factorisation
   // Jacobian reuse (a chord Newton method): leaving J untouched keeps its state, so PETSc keeps
   // the factorisation too. Only while the shifts, i.e. the step size, stay the same.
   const bool same_shifts = shift_v == self->reuse_shift_v_ && inertia * shift_a == self->reuse_shift_a_;

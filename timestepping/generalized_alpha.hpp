@@ -52,6 +52,7 @@ class GeneralizedAlphaIntegrator {
   long jacobians_ = 0;                                  // Jacobians assembled in the run
   PetscBool predictor_ = PETSC_TRUE;                    // -dyn_predictor: Newton starts from a Taylor guess
   TS ts_ = nullptr;
+  KSP ksp_ = nullptr;  // the Newton solver's linear solver (ts_ owns it)
   Mat J_ = nullptr;
   Mat P_ = nullptr;  // a dense copy of J_ for small systems, factored instead of it
   Vec F_ = nullptr, Uc_ = nullptr, V_prev_ = nullptr, A_est_ = nullptr, A_scaled_ = nullptr;

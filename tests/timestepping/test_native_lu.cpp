@@ -1,0 +1,185 @@
+// PETSc's own LU on constrained Jacobians: the saddle-point ordering factors a full lattice whose
+// rigid end sections are frames held by constraints alone (where a band ordering meets a zero
+// pivot) to the solution UMFPACK gives, and a failed factorisation falls back to UMFPACK.
+#include "timestepping/native_lu.hpp"
+
+#include "assembly/lattice_builder.hpp"
+#include "assembly/model_builder.hpp"
+#include "assembly/system_assembler.hpp"
+
+#include <gtest/gtest.h>
+
+namespace latticedyn {
+namespace {
+
+TrussSectionSpec rectangle() {
+  TrussSectionSpec s;
+  s.length = 5.0;
+  s.order = 2;
+  s.end1 = {{0.75, 0.7}, {-0.75, 0.7}, {-0.75, -0.7}, {0.75, -0.7}};
+  s.end2 = s.end1;
+  s.main_beams = {{0, 0}, {1, 1}, {2, 2}, {3, 3}};
+  s.cross_beams1 = {{0, 1}, {1, 2}, {2, 3}, {3, 0}};
+  s.cross_beams2 = s.cross_beams1;
+  s.material = Material{7800, 2.06e11, 0.3};
+  s.main_section = s.cross_section = round_tube_section(0.1, 0.08);
+  s.sub_section = round_tube_section(0.05, 0.04);
+  return s;
+}
+
+// Two member-by-member lattice sections with rigid end sections, the first hinged to the ground
+// (a revolute joint about y: five multipliers) and the two joined end to end by a fixed
+// constraint between their reference frames: frames that only constraints hold, constraints
+// between such frames, and a body's worth of multipliers on one frame from several sides.
+Model two_section_boom() {
+  ModelBuilder b;
+  b.set_gravity(Vec3(0, 0, -9.81));
+  const TrussSectionSpec spec = rectangle();
+  const TrussGeometry g = build_truss_geometry(spec);
+  FullLatticeOptions o;
+  const FullLattice first = add_full_lattice(b, "a", spec, g, o);
+  o.position = Vec3(spec.length, 0, 0);
+  const FullLattice second = add_full_lattice(b, "b", spec, g, o);
+  auto joint = [](const FullLattice& l, const std::string& name) {
+    for (const auto& [n, j] : l.joints)
+      if (n == name) return j;
+    return -1;
+  };
+  const int hinge = b.add_ground_joint("ground.hinge", Vec3::Zero(), Mat3::Identity());
+  b.add_constraint(Constraint{"hinge", ConstraintType::revolute, 1, hinge, joint(first, "1"), -1}, false);
+  b.add_constraint(Constraint{"splice", ConstraintType::fixed, 2, joint(first, "2"), joint(second, "1"), -1}, false);
+  return b.build();
+}
+
+// The generalized-alpha iteration matrix at the initial state (h = 0.01 s, beta = 1/4).
+PetscErrorCode iteration_matrix(SystemAssembler& sa, Mat* J) {
+  Vec U, V;
+  PetscFunctionBeginUser;
+  PetscCall(sa.create_matrix(J));
+  PetscCall(sa.create_vector(&U));
+  PetscCall(sa.create_vector(&V));
+  PetscCall(sa.initial_state(U, V));
+  const double h = 0.01, beta = 0.25, gamma = 0.5;
+  EvaluationSettings how;
+  how.constraint_scale = sa.characteristic_mass() / (beta * h * h);
+  PetscCall(sa.jacobian(EvaluationPoint{U, V, nullptr, nullptr, 0.0, 0.0}, how, 1.0, gamma / (beta * h),
+                        1.0 / (beta * h * h), *J));
+  PetscCall(VecDestroy(&U));
+  PetscCall(VecDestroy(&V));
+  PetscFunctionReturn(0);
+}
+
+struct Solve {
+  PCFailedReason failure = PC_NOERROR;
+  std::vector<double> x;
+};
+
+// Solves J x = b (b = 1, 2, 3, ... scaled) with LU by the given package and ordering.
+Solve solve(Mat J, const char* package, const char* ordering) {
+  Solve out;
+  KSP ksp;
+  PC pc;
+  Vec b, x;
+  PetscCallAbort(PETSC_COMM_SELF, KSPCreate(PETSC_COMM_SELF, &ksp));
+  PetscCallAbort(PETSC_COMM_SELF, KSPSetOperators(ksp, J, J));
+  PetscCallAbort(PETSC_COMM_SELF, KSPSetType(ksp, KSPPREONLY));
+  if (std::string_view(package) == MATSOLVERPETSC && std::string_view(ordering) == kSaddlePointOrdering) {
+    PetscCallAbort(PETSC_COMM_SELF, use_native_lu(ksp));
+    PetscCallAbort(PETSC_COMM_SELF, KSPGetPC(ksp, &pc));
+  } else {
+    PetscCallAbort(PETSC_COMM_SELF, KSPGetPC(ksp, &pc));
+    PetscCallAbort(PETSC_COMM_SELF, PCSetType(pc, PCLU));
+    PetscCallAbort(PETSC_COMM_SELF, PCFactorSetMatSolverType(pc, package));
+    PetscCallAbort(PETSC_COMM_SELF, PCFactorSetMatOrderingType(pc, ordering));
+  }
+  PetscCallAbort(PETSC_COMM_SELF, MatCreateVecs(J, &x, &b));
+  PetscInt n;
+  PetscCallAbort(PETSC_COMM_SELF, VecGetSize(b, &n));
+  for (PetscInt i = 0; i < n; ++i) PetscCallAbort(PETSC_COMM_SELF, VecSetValue(b, i, 1.0 + i % 7, INSERT_VALUES));
+  PetscCallAbort(PETSC_COMM_SELF, VecAssemblyBegin(b));
+  PetscCallAbort(PETSC_COMM_SELF, VecAssemblyEnd(b));
+  PetscCallAbort(PETSC_COMM_SELF, KSPSolve(ksp, b, x));
+  PetscCallAbort(PETSC_COMM_SELF, PCGetFailedReason(pc, &out.failure));
+  if (out.failure == PC_NOERROR) {
+    const PetscScalar* a;
+    PetscCallAbort(PETSC_COMM_SELF, VecGetArrayRead(x, &a));
+    out.x.assign(a, a + n);
+    PetscCallAbort(PETSC_COMM_SELF, VecRestoreArrayRead(x, &a));
+  }
+  VecDestroy(&b);
+  VecDestroy(&x);
+  KSPDestroy(&ksp);
+  return out;
+}
+
+TEST(NativeLU, SaddlePointOrderingFactorsRigidEndSectionsAsUmfpackDoes) {
+  const Model model = two_section_boom();
+  SystemAssembler sa(model, PETSC_COMM_SELF);
+  ASSERT_GT(sa.dofs().num_multipliers(), 50);
+  Mat J;
+  ASSERT_EQ(iteration_matrix(sa, &J), 0);
+  const Solve reference = solve(J, MATSOLVERUMFPACK, MATORDERINGEXTERNAL);
+  ASSERT_EQ(reference.failure, PC_NOERROR);
+  // Why the ordering exists: the band ordering alone reaches a multiplier before its unknowns.
+  EXPECT_NE(solve(J, MATSOLVERPETSC, MATORDERINGRCM).failure, PC_NOERROR);
+  const Solve native = solve(J, MATSOLVERPETSC, kSaddlePointOrdering);
+  ASSERT_EQ(native.failure, PC_NOERROR);
+  double largest = 0.0, difference = 0.0;
+  for (std::size_t i = 0; i < native.x.size(); ++i) {
+    largest = std::max(largest, std::abs(reference.x[i]));
+    difference = std::max(difference, std::abs(native.x[i] - reference.x[i]));
+  }
+  EXPECT_LT(difference, 1e-9 * largest);
+  MatDestroy(&J);
+}
+
+TEST(NativeLU, FailedFactorisationFallsBackToUmfpack) {
+  // [0 1; 1 0]: both rows lack a pivot and nothing gives them one, so PETSc's LU must fail; the
+  // fallback's UMFPACK pivots and solves it.
+  Mat A;
+  ASSERT_EQ(MatCreateSeqAIJ(PETSC_COMM_SELF, 2, 2, 2, nullptr, &A), 0);
+  for (PetscInt i = 0; i < 2; ++i) {
+    MatSetValue(A, i, i, 0.0, INSERT_VALUES);
+    MatSetValue(A, i, 1 - i, 1.0, INSERT_VALUES);
+  }
+  MatAssemblyBegin(A, MAT_FINAL_ASSEMBLY);
+  MatAssemblyEnd(A, MAT_FINAL_ASSEMBLY);
+  KSP ksp;
+  Vec b, x;
+  KSPCreate(PETSC_COMM_SELF, &ksp);
+  KSPSetOperators(ksp, A, A);
+  KSPSetType(ksp, KSPPREONLY);
+  ASSERT_EQ(use_native_lu(ksp), 0);
+  MatCreateVecs(A, &x, &b);
+  VecSetValue(b, 0, 2.0, INSERT_VALUES);
+  VecSetValue(b, 1, 3.0, INSERT_VALUES);
+  VecAssemblyBegin(b);
+  VecAssemblyEnd(b);
+  KSPSolve(ksp, b, x);
+  PC pc;
+  PCFailedReason reason;
+  KSPGetPC(ksp, &pc);
+  PCGetFailedReason(pc, &reason);
+  EXPECT_NE(reason, PC_NOERROR);
+  PetscBool switched;
+  ASSERT_EQ(fall_back_after_failed_factorisation(ksp, &switched), 0);
+  EXPECT_TRUE(switched);
+  KSPSolve(ksp, b, x);
+  PCGetFailedReason(pc, &reason);
+  EXPECT_EQ(reason, PC_NOERROR);
+  const PetscScalar* a;
+  VecGetArrayRead(x, &a);
+  EXPECT_NEAR(a[0], 3.0, 1e-14);
+  EXPECT_NEAR(a[1], 2.0, 1e-14);
+  VecRestoreArrayRead(x, &a);
+  // A second call finds nothing to do.
+  ASSERT_EQ(fall_back_after_failed_factorisation(ksp, &switched), 0);
+  EXPECT_FALSE(switched);
+  VecDestroy(&b);
+  VecDestroy(&x);
+  KSPDestroy(&ksp);
+  MatDestroy(&A);
+}
+
+}  // namespace
+}  // namespace latticedyn

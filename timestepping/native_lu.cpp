@@ -1,0 +1,210 @@
+// PETSc's own LU on saddle-point matrices: a fill-reducing permutation with the rows that lack a
+// pivot of their own moved behind rows that give them one, and the fallback to UMFPACK.
+#include "timestepping/native_lu.hpp"
+
+#include <algorithm>
+#include <functional>
+#include <numeric>
+#include <string_view>
+#include <vector>
+
+namespace latticedyn {
+
+namespace {
+
+// Rows named by an IS composed on A under `name` (flags[i] = 1), if there is one.
+PetscErrorCode mark_named_rows(Mat A, const char* name, std::vector<char>& flags, PetscBool* found) {
+  PetscObject named = nullptr;
+  PetscFunctionBeginUser;
+  PetscCall(PetscObjectQuery((PetscObject)A, name, &named));
+  *found = named ? PETSC_TRUE : PETSC_FALSE;
+  if (!named) PetscFunctionReturn(0);
+  const PetscInt* rows;
+  PetscInt m;
+  PetscCall(ISGetLocalSize((IS)named, &m));
+  PetscCall(ISGetIndices((IS)named, &rows));
+  for (PetscInt k = 0; k < m; ++k) flags[rows[k]] = 1;
+  PetscCall(ISRestoreIndices((IS)named, &rows));
+  PetscFunctionReturn(0);
+}
+
+// A delayed row is placed just after the last placed row it couples to, once it can have a
+// pivot there. The factorisation gives a multiplier a nonzero pivot when an unknown it couples to
+// has been eliminated that no earlier multiplier relies on (a body of six coordinates carries six
+// multipliers, not more), and a frame held only by constraints a pivot for each of its rows when as
+// many multipliers coupled to it have been eliminated. So, pass by pass, the rows that can be
+// placed are matched (Kuhn's augmenting paths) to partners of that kind not yet taken: placed
+// unknowns (stiff or frame) for multipliers, placed multipliers for frame rows. Offsets of 1/2,
+// 1/4, ... keep every pass between the same two ordinary rows. Rows that never find a partner
+// (dependent constraints) keep their first place; the factorisation then reports a zero pivot.
+PetscErrorCode place_delayed_rows(const std::vector<char>& multiplier, const std::vector<char>& frame,
+                                  const std::vector<std::vector<PetscInt>>& coupled, std::vector<double>& key) {
+  PetscFunctionBeginUser;
+  const auto n = static_cast<PetscInt>(key.size());
+  std::vector<char> placed(n);
+  for (PetscInt i = 0; i < n; ++i) placed[i] = !multiplier[i] && !frame[i];
+  std::vector<PetscInt> taken_by(n, -1);  // partner -> the delayed row it gives its pivot to
+  std::vector<char> visited(n);
+  // Does row i find a partner, possibly taking one from another row of this pass (which must then
+  // find another)? Partners taken in earlier passes stay.
+  std::vector<char> in_pass(n, 0);
+  auto eligible = [&](PetscInt i, PetscInt j) {
+    return placed[j] && (multiplier[i] ? !multiplier[j] : multiplier[j] != 0);
+  };
+  std::function<bool(PetscInt)> augment = [&](PetscInt i) {
+    for (PetscInt j : coupled[i]) {
+      if (!eligible(i, j) || visited[j]) continue;
+      visited[j] = 1;
+      if (taken_by[j] < 0 || (in_pass[taken_by[j]] && augment(taken_by[j]))) {
+        taken_by[j] = i;
+        return true;
+      }
+    }
+    return false;
+  };
+  double offset = 0.5;
+  for (bool progress = true; progress && offset > 1e-12; offset *= 0.5) {
+    progress = false;
+    std::vector<PetscInt> candidates;
+    for (PetscInt i = 0; i < n; ++i)
+      if (!placed[i]) {
+        bool reachable = false;
+        for (PetscInt j : coupled[i]) reachable = reachable || eligible(i, j);
+        if (reachable) candidates.push_back(i), in_pass[i] = 1;
+      }
+    std::vector<PetscInt> matched;
+    for (PetscInt i : candidates) {
+      std::fill(visited.begin(), visited.end(), 0);
+      if (augment(i)) matched.push_back(i);
+    }
+    // A row that lost its partner to a later one of the pass was re-matched by the augmenting path,
+    // so every row in `matched` holds a partner now.
+    for (PetscInt i : candidates) in_pass[i] = 0;
+    for (PetscInt i : matched) {
+      double last = -1.0;
+      for (PetscInt j : coupled[i])
+        if (placed[j]) last = std::max(last, key[j]);
+      key[i] = last + offset;
+    }
+    for (PetscInt i : matched) placed[i] = 1, progress = true;
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode saddle_point_ordering(Mat A, MatOrderingType, IS* row, IS* col) {
+  PetscFunctionBeginUser;
+  PetscInt n;
+  PetscCall(MatGetSize(A, &n, nullptr));
+  // Approximate minimum degree (SuiteSparse's, through PETSc) where PETSc has it: on the full
+  // crane its factors take half the flops of reverse Cuthill-McKee's, on lattices the same.
+  PetscErrorCode (*amd)(Mat, MatOrderingType, IS*, IS*) = nullptr;
+  // (MatGetOrdering, which calls this function, has filled MatOrderingList.)
+  PetscCall(PetscFunctionListFind(MatOrderingList, MATORDERINGAMD, &amd));
+  IS base_row, base_col;
+  PetscCall(MatGetOrdering(A, amd ? MATORDERINGAMD : MATORDERINGRCM, &base_row, &base_col));
+  const PetscInt* perm;
+  PetscCall(ISGetIndices(base_row, &perm));
+  std::vector<double> key(n);
+  for (PetscInt k = 0; k < n; ++k) key[perm[k]] = static_cast<double>(k);
+  PetscCall(ISRestoreIndices(base_row, &perm));
+  PetscCall(ISDestroy(&base_row));
+  PetscCall(ISDestroy(&base_col));
+  const std::vector<double> position = key;
+
+  // Rows without a pivot of their own: multipliers, and frames only constraints hold. Without the
+  // assembler's lists, the rows with a zero diagonal count as multipliers.
+  std::vector<char> multiplier(n, 0), frame(n, 0);
+  PetscBool named;
+  PetscCall(mark_named_rows(A, kMultiplierRows, multiplier, &named));
+  PetscCall(mark_named_rows(A, kUnstiffenedRows, frame, &named));
+  if (!named) {
+    for (PetscInt i = 0; i < n; ++i) {
+      PetscInt nz;
+      const PetscInt* cols;
+      const PetscScalar* vals;
+      PetscCall(MatGetRow(A, i, &nz, &cols, &vals));
+      multiplier[i] = 1;
+      for (PetscInt k = 0; k < nz; ++k)
+        if (cols[k] == i && vals[k] != 0.0) multiplier[i] = 0;
+      PetscCall(MatRestoreRow(A, i, &nz, &cols, &vals));
+    }
+  }
+
+  // The delayed rows' couplings (the pattern of their rows), read once.
+  std::vector<std::vector<PetscInt>> coupled(n);
+  for (PetscInt i = 0; i < n; ++i) {
+    if (!multiplier[i] && !frame[i]) continue;
+    PetscInt nz;
+    const PetscInt* cols;
+    PetscCall(MatGetRow(A, i, &nz, &cols, nullptr));
+    for (PetscInt k = 0; k < nz; ++k)
+      if (cols[k] != i) coupled[i].push_back(cols[k]);
+    PetscCall(MatRestoreRow(A, i, &nz, &cols, nullptr));
+  }
+  PetscCall(place_delayed_rows(multiplier, frame, coupled, key));
+  std::vector<PetscInt> order(n);
+  std::iota(order.begin(), order.end(), PetscInt{0});
+  std::stable_sort(order.begin(), order.end(), [&](PetscInt a, PetscInt b) {
+    return key[a] < key[b] || (key[a] == key[b] && position[a] < position[b]);
+  });
+  PetscCall(ISCreateGeneral(PETSC_COMM_SELF, n, order.data(), PETSC_COPY_VALUES, row));
+  PetscCall(ISCreateGeneral(PETSC_COMM_SELF, n, order.data(), PETSC_COPY_VALUES, col));
+  PetscCall(ISSetPermutation(*row));
+  PetscCall(ISSetPermutation(*col));
+  PetscFunctionReturn(0);
+}
+
+}  // namespace
+
+PetscErrorCode register_saddle_point_ordering() {
+  static bool registered = false;
+  PetscFunctionBeginUser;
+  if (registered) PetscFunctionReturn(0);
+  PetscCall(MatOrderingRegister(kSaddlePointOrdering, saddle_point_ordering));
+  registered = true;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode use_native_lu(KSP ksp) {
+  PC pc;
+  PetscFunctionBeginUser;
+  PetscCall(register_saddle_point_ordering());
+  PetscCall(KSPGetPC(ksp, &pc));
+  PetscCall(PCSetType(pc, PCLU));
+  PetscCall(PCFactorSetMatSolverType(pc, MATSOLVERPETSC));
+  PetscCall(PCFactorSetMatOrderingType(pc, kSaddlePointOrdering));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode fall_back_after_failed_factorisation(KSP ksp, PetscBool* switched) {
+  PC pc;
+  PCFailedReason reason;
+  PetscBool lu;
+  MatSolverType type;
+  PetscFunctionBeginUser;
+  *switched = PETSC_FALSE;
+  PetscCall(KSPGetPC(ksp, &pc));
+  PetscCall(PCGetFailedReason(pc, &reason));
+  if (reason == PC_NOERROR) PetscFunctionReturn(0);
+  PetscCall(PetscObjectTypeCompare((PetscObject)pc, PCLU, &lu));
+  if (!lu) PetscFunctionReturn(0);
+  PetscCall(PCFactorGetMatSolverType(pc, &type));
+  if (!type || std::string_view(type) != MATSOLVERPETSC) PetscFunctionReturn(0);
+  PetscCall(PetscInfo(pc, "PETSc's LU failed (%s): UMFPACK, which pivots, from here on\n", PCFailedReasons[reason]));
+  // PCReset drops the operators too: keep them and hand them back.
+  Mat A, P;
+  PetscCall(KSPGetOperators(ksp, &A, &P));
+  PetscCall(PetscObjectReference((PetscObject)A));
+  PetscCall(PetscObjectReference((PetscObject)P));
+  PetscCall(PCReset(pc));
+  PetscCall(PCSetType(pc, PCLU));
+  PetscCall(PCFactorSetMatSolverType(pc, MATSOLVERUMFPACK));
+  PetscCall(PCFactorSetMatOrderingType(pc, MATORDERINGEXTERNAL));
+  PetscCall(KSPSetOperators(ksp, A, P));
+  PetscCall(MatDestroy(&A));
+  PetscCall(MatDestroy(&P));
+  *switched = PETSC_TRUE;
+  PetscFunctionReturn(0);
+}
+
+}  // namespace latticedyn

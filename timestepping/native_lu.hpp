@@ -1,0 +1,37 @@
+// PETSc's own sparse LU for the constrained (saddle-point) Jacobians on one process: an ordering
+// under which it needs no pivoting, and the switch to a pivoting LU should a pivot vanish anyway.
+#pragma once
+
+#include "assembly/system_assembler.hpp"
+
+#include <petscksp.h>
+
+namespace latticedyn {
+
+/// The ordering's name for PCFactorSetMatOrderingType / -pc_factor_mat_ordering_type.
+inline constexpr const char* kSaddlePointOrdering = "saddle";
+
+/// Registers kSaddlePointOrdering with PETSc (once; after PetscInitialize): approximate minimum
+/// degree on the whole pattern (reverse Cuthill-McKee where PETSc lacks AMD), then every row
+/// without a pivot of its own (a Lagrange multiplier's, or a frame that only constraints hold,
+/// such as the reference node of a rigid end section) moved to just after rows that give it one.
+/// When the factorisation reaches a multiplier, an unknown of its constraint no other multiplier
+/// relies on has been eliminated, so its pivot is a Schur complement -G K^-1 G^T (nonzero for
+/// independent constraint rows) instead of the zero the plain ordering would meet; a frame comes
+/// after as many of its multipliers. The rows are those of the ISs composed on the matrix under
+/// kMultiplierRows and kUnstiffenedRows (SystemAssembler::create_matrix does); without them, the
+/// rows with a zero diagonal count as multipliers.
+PetscErrorCode register_saddle_point_ordering();
+
+/// Sets ksp's LU to PETSc's own factorisation in kSaddlePointOrdering. Without pivoting or the
+/// frontal machinery of UMFPACK it factors the small fronts of lattices and cranes several times
+/// faster (docs/performance.md). One process only.
+PetscErrorCode use_native_lu(KSP ksp);
+
+/// If ksp uses PETSc's own LU and its last factorisation failed (a zero pivot: dependent
+/// constraint rows, or a singular tangent), switches it to UMFPACK, which pivots, for the rest of
+/// its life and sets *switched; the caller then assembles a fresh matrix. Cheap: call it before
+/// every Jacobian.
+PetscErrorCode fall_back_after_failed_factorisation(KSP ksp, PetscBool* switched);
+
+}  // namespace latticedyn
