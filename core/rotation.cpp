@@ -50,23 +50,24 @@ RateCoefficientDerivatives rate_coefficient_derivatives(double x) {
   return {(-x * c + 5 * t * s + 8 * c - 8) / (2 * t6), (x * s + 7 * t * c + 8 * t - 15 * s) / (2 * t6 * t)};
 }
 
-Mat3 tangent_inverse_transpose_derivative(const Vec3& phi, const Vec3& m) {
-  const double x = phi.squaredNorm();
-  double c3 = 0.0, dc3 = 0.0;  // c3(x) and dc3/dx
-  if (x < rotation_detail::kSeriesBelow) {
-    c3 = rotation_detail::poly(x, 1.0 / 12, 1.0 / 720, 1.0 / 30240, 1.0 / 1209600, 1.0 / 47900160);
-    dc3 = rotation_detail::poly(x, 1.0 / 720, 2.0 / 30240, 3.0 / 1209600, 4.0 / 47900160, 0.0);
-  } else {
-    // c3 = (1 - g)/t^2 with g = t (1 + cos t) / (2 sin t), t = |phi|.
-    const double t = std::sqrt(x), s = std::sin(t), c = std::cos(t);
-    const double g = t * (1 + c) / (2 * s);
-    const double dg = (1 + c) / (2 * s) - t * (1 + c) / (2 * s * s);
-    c3 = (1 - g) / x;
-    dc3 = (-dg / x - 2 * (1 - g) / (x * t)) / (2 * t);
+void rotation_detail::inverse_coefficient_and_derivative(double x, double* c3, double* dc3) {
+  if (x < kSeriesBelow) {
+    *c3 = inverse_coefficient_series(x);
+    *dc3 = inverse_coefficient_derivative_series(x);
+    return;
   }
-  const Vec3 pm = phi.cross(m), ppm = phi.cross(pm);
-  return 0.5 * skew<double>(m) + c3 * (phi * m.transpose() + phi.dot(m) * Mat3::Identity() - 2 * m * phi.transpose()) +
-         (2 * dc3) * ppm * phi.transpose();
+  // c3 = (1 - g)/t^2 with g = t (1 + cos t) / (2 sin t), t = |phi|.
+  const double t = std::sqrt(x), s = std::sin(t), c = std::cos(t);
+  const double g = t * (1 + c) / (2 * s);
+  const double dg = (1 + c) / (2 * s) - t * (1 + c) / (2 * s * s);
+  *c3 = (1 - g) / x;
+  *dc3 = (-dg / x - 2 * (1 - g) / (x * t)) / (2 * t);
+}
+
+Mat3 tangent_inverse_transpose_derivative(const Vec3& phi, const Vec3& m) {
+  double c3, dc3;
+  rotation_detail::inverse_coefficient_and_derivative(phi.squaredNorm(), &c3, &dc3);
+  return tangent_inverse_transpose_derivative(phi, m, c3, dc3);
 }
 
 Vec3 rescaled_rotation_vector(const Vec3& phi) {

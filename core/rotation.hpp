@@ -66,15 +66,26 @@ Coefficients<S> coefficients(const S& x) {
           (one_minus_c * t - S(3) * (t - s)) / (x * x * t)};
 }
 
+/// c3's Taylor series in x, for x < kSeriesBelow, and that of dc3/dx.
+template <class S>
+S inverse_coefficient_series(const S& x) {
+  return poly(x, 1.0 / 12, 1.0 / 720, 1.0 / 30240, 1.0 / 1209600, 1.0 / 47900160);
+}
+template <class S>
+S inverse_coefficient_derivative_series(const S& x) {
+  return poly(x, 1.0 / 720, 2.0 / 30240, 3.0 / 1209600, 4.0 / 47900160, 0.0);
+}
+
+/// c3(x) and dc3/dx in double, series or closed form.
+void inverse_coefficient_and_derivative(double x, double* c3, double* dc3);
+
 /// c3 of T^{-1} = I + Phi/2 + c3 Phi^2, c3 = (1 - (theta/2) cot(theta/2)) / theta^2.
 template <class S>
 S inverse_coefficient(const S& x) {
   using std::cos;
   using std::sin;
   using std::sqrt;
-  if (scalar_value(x) < kSeriesBelow) {
-    return poly(x, 1.0 / 12, 1.0 / 720, 1.0 / 30240, 1.0 / 1209600, 1.0 / 47900160);
-  }
+  if (scalar_value(x) < kSeriesBelow) return inverse_coefficient_series(x);
   const S t = sqrt(x);
   return (S(1) - t * (S(1) + cos(t)) / (S(2) * sin(t))) / x;
 }
@@ -119,6 +130,14 @@ inline Vec3 tangent_inverse_transpose_times(const Vec3& phi, const Vec3& m) {
 /// T^-T m = m - phi x m / 2 + c3 phi x (phi x m), so the derivative is
 /// skew(m)/2 + c3 (phi m^T + (phi.m) I - 2 m phi^T) + 2 c3'(|phi|^2) (phi x (phi x m)) phi^T.
 Mat3 tangent_inverse_transpose_derivative(const Vec3& phi, const Vec3& m);
+/// The same with c3(|phi|^2) and its derivative given, for any scalar.
+template <class S>
+Mat3T<S> tangent_inverse_transpose_derivative(const Vec3T<S>& phi, const Vec3T<S>& m, const S& c3, const S& dc3) {
+  const Vec3T<S> pm = phi.cross(m), ppm = phi.cross(pm);
+  return skew(m) * S(0.5) +
+         (phi * m.transpose() + Mat3T<S>::Identity() * phi.dot(m) - m * phi.transpose() * S(2.0)) * c3 +
+         ppm * phi.transpose() * (dc3 * S(2.0));
+}
 
 /// Time derivative dT/dt of T(phi(t)) for dphi/dt = phi_dot (B-11, rederived; the thesis's
 /// "(1 - sin theta)" is a conversion error for "(theta - sin theta)").
@@ -145,16 +164,23 @@ Vec3 rotation_vector(const Mat3& R);
 /// Log map for rotations of less than pi/2 (e.g. an element's deformational rotations), templated
 /// for automatic differentiation: phi = theta / sin(theta) unskew(R), with theta / sin(theta) from
 /// its series in sin^2 near 0 so that derivatives stay exact there.
+namespace rotation_detail {
+// theta / sin(theta) as asin(s)/s = 1 + s^2/6 + 3 s^4/40 + 5 s^6/112 + 35 s^8/1152 in s^2 =
+// sin^2(theta), for s^2 below kSmallAngleSeriesBelow (cos(theta) > 0 there).
+inline constexpr double kSmallAngleSeriesBelow = 1e-4;
+template <class S>
+S angle_over_sine_series(const S& s2) {
+  return poly(s2, 1.0, 1.0 / 6, 3.0 / 40, 5.0 / 112, 35.0 / 1152);
+}
+}  // namespace rotation_detail
+
 template <class S>
 Vec3T<S> small_rotation_vector(const Mat3T<S>& R) {
   using std::atan2;
   using std::sqrt;
   const Vec3T<S> v = unskew(R);  // sin(theta) n
   const S s2 = v.squaredNorm();
-  if (scalar_value(s2) < 1e-4) {
-    // asin(s)/s = 1 + s^2/6 + 3 s^4/40 + 5 s^6/112 + 35 s^8/1152 (cos(theta) > 0 here)
-    return v * rotation_detail::poly(s2, 1.0, 1.0 / 6, 3.0 / 40, 5.0 / 112, 35.0 / 1152);
-  }
+  if (scalar_value(s2) < rotation_detail::kSmallAngleSeriesBelow) return v * rotation_detail::angle_over_sine_series(s2);
   const S s = sqrt(s2);
   const S c = (R.trace() - S(1)) / S(2);
   return v * (atan2(s, c) / s);

@@ -5,6 +5,8 @@
 
 #include <omp.h>
 
+#include <algorithm>
+
 #include <map>
 #include <stdexcept>
 
@@ -80,6 +82,28 @@ SuperTrussElement::SuperTrussElement(const TrussSectionSpec& spec, const TrussGe
     lumped_.weight[m.b] += 0.5 * mass;
     members_.push_back(m);
   }
+  for (std::size_t first = 0; first < members_.size(); first += Pack4::kLanes) {
+    MemberBatch batch;
+    batch.count = static_cast<int>(std::min<std::size_t>(Pack4::kLanes, members_.size() - first));
+    for (int l = 0; l < Pack4::kLanes; ++l) {
+      const bool real = l < batch.count;
+      const Member& m = members_[first + (real ? l : 0)];
+      batch.a[l] = m.a;
+      batch.b[l] = m.b;
+      const CorotationalStiffness& k = m.beam->stiffness();
+      if (real) {
+        batch.stiffness.length[l] = k.length;
+        batch.stiffness.ea[l] = k.ea;
+        batch.stiffness.gj[l] = k.gj;
+        for (int i = 0; i < 2; ++i) batch.stiffness.kz[i][l] = k.kz[i], batch.stiffness.ky[i][l] = k.ky[i];
+      } else {
+        batch.stiffness.length[l] = k.length;  // a copy without stiffness: no force
+      }
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) batch.offset_a(i, j)[l] = m.offset_a(i, j), batch.offset_b(i, j)[l] = m.offset_b(i, j);
+    }
+    batches_.push_back(batch);
+  }
   for (const auto& [ab, mass] : pairs) lumped_.pairs.push_back({ab.first, ab.second, mass});
   // The translational kinetic energy (1/2) sum m_ab pd_a . pd_b is bilinear in the points'
   // coefficients z: the moment matrix Z = sum m_ab z_a z_b^T carries all of it, as the pairs
@@ -98,27 +122,63 @@ SuperTrussElement::SuperTrussElement(const TrussSectionSpec& spec, const TrussGe
   }
 }
 
+namespace {
+
+// A member end's loads from lane l of packed vectors.
+Vec3 lane(const Vec3T<Pack4>& v, int l) { return Vec3(v(0)[l], v(1)[l], v(2)[l]); }
+
+}  // namespace
+
 void SuperTrussElement::add_members(const Evaluation& ev, int first, int last, MemberLoads& out, bool tangent) const {
-  Vec9 f;
-  Mat9 K9;
-  Eigen::Matrix<double, 9, 12> P;
+  constexpr int kL = Pack4::kLanes;
+  Vec3T<Pack4> d;
+  Mat3T<Pack4> Ra, Rb;
+  CorotationalForce<Pack4> force;
+  Eigen::Matrix<Pack4, 9, 9> K9;
+  Eigen::Matrix<Pack4, 9, 12> P;
+  Eigen::Matrix<Pack4, 3, 12> Jwa, Jwb;
+  Eigen::Matrix<Pack4, 12, 12> K = Eigen::Matrix<Pack4, 12, 12>::Zero();  // the lanes summed at the end
   for (int k = first; k < last; ++k) {
-    const Member& m = members_[k];
-    m.beam->elastic_force(ev.p[m.b] - ev.p[m.a], ev.R[m.a] * m.offset_a, ev.R[m.b] * m.offset_b, f,
-                          tangent ? &K9 : nullptr);
-    out.F[m.a] -= f.segment<3>(0);
-    out.F[m.b] += f.segment<3>(0);
-    out.M[m.a] += m.offset_a * f.segment<3>(3);
-    out.M[m.b] += m.offset_b * f.segment<3>(6);
+    const MemberBatch& bt = batches_[k];
+    for (int l = 0; l < kL; ++l) {
+      const Vec3 dl = ev.p[bt.b[l]] - ev.p[bt.a[l]];
+      const Mat3 &Ral = ev.R[bt.a[l]], &Rbl = ev.R[bt.b[l]];
+      for (int i = 0; i < 3; ++i) {
+        d(i)[l] = dl(i);
+        for (int j = 0; j < 3; ++j) Ra(i, j)[l] = Ral(i, j), Rb(i, j)[l] = Rbl(i, j);
+      }
+    }
+    const Mat3T<Pack4> R1 = Ra * bt.offset_a, R2 = Rb * bt.offset_b;
+    corotational_internal_force(bt.stiffness, d, R1, R2, force);
+    const Vec3T<Pack4> Ma = bt.offset_a * force.f.segment<3>(3), Mb = bt.offset_b * force.f.segment<3>(6);
+    for (int l = 0; l < bt.count; ++l) {
+      const Vec3 F = lane(force.f.segment<3>(0), l);
+      out.F[bt.a[l]] -= F;
+      out.F[bt.b[l]] += F;
+      out.M[bt.a[l]] += lane(Ma, l);
+      out.M[bt.b[l]] += lane(Mb, l);
+    }
     if (!tangent) continue;
-    // The member's variables (d, delta_a, delta_b) in the element's: rows of P.
-    P.topRows<3>() = ev.Jp[m.b] - ev.Jp[m.a];
-    P.middleRows<3>(3) = m.offset_a.transpose() * ev.Jw[m.a];
-    P.bottomRows<3>() = m.offset_b.transpose() * ev.Jw[m.b];
-    // Coefficient-wise products: at these sizes Eigen's blocked GEMM costs more than it saves.
-    const Eigen::Matrix<double, 9, 12> KP = K9.lazyProduct(P);
-    out.K.noalias() += P.transpose().lazyProduct(KP);
+    corotational_tangent(bt.stiffness, R1, R2, force, K9);
+    // The members' variables (d, delta_a, delta_b) in the element's: rows of P.
+    for (int l = 0; l < kL; ++l) {
+      const Mat312 Jd = ev.Jp[bt.b[l]] - ev.Jp[bt.a[l]];
+      const Mat312 &Ja = ev.Jw[bt.a[l]], &Jb = ev.Jw[bt.b[l]];
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 12; ++j) P(i, j)[l] = Jd(i, j), Jwa(i, j)[l] = Ja(i, j), Jwb(i, j)[l] = Jb(i, j);
+    }
+    P.middleRows<3>(3) = bt.offset_a.transpose() * Jwa;
+    P.bottomRows<3>() = bt.offset_b.transpose() * Jwb;
+    const Eigen::Matrix<Pack4, 9, 12> KP = K9.lazyProduct(P);
+    K.noalias() += P.transpose().lazyProduct(KP);
   }
+  if (!tangent) return;
+  for (int i = 0; i < 12; ++i)
+    for (int j = 0; j < 12; ++j) {
+      double sum = 0.0;
+      for (int l = 0; l < kL; ++l) sum += K(i, j)[l];
+      out.K(i, j) += sum;
+    }
 }
 
 void SuperTrussElement::add_translational_inertia(std::span<const SlotState<double>> s, const ElementContext& ctx,
@@ -171,19 +231,22 @@ void SuperTrussElement::evaluate(std::span<const SlotState<double>> s, const Ele
   // several elements in parallel), each into its own node loads and stiffness.
   const bool tangent = t != nullptr;
   const int threads = omp_in_parallel() ? 1 : omp_get_max_threads();
-  const int nm = num_members();
   thread_local MemberLoads loads;
   loads.reset(nn);
+  const int nb = static_cast<int>(batches_.size());
+  const Evaluation& kin = ev;  // the calling thread's scratch (a thread_local), shared with the tasks
+  auto add = [&](int c, int chunks, MemberLoads& out) {
+    add_members(kin, c * nb / chunks, (c + 1) * nb / chunks, out, tangent);
+  };
   if (threads <= 1) {
-    add_members(ev, 0, nm, loads, tangent);
+    add(0, 1, loads);
   } else {
     const int chunks = 2 * threads;
     std::vector<MemberLoads> part(chunks);
-    const Evaluation& kin = ev;  // the calling thread's scratch, shared with the tasks
 #pragma omp parallel for num_threads(threads) schedule(static, 1)
     for (int c = 0; c < chunks; ++c) {
       part[c].reset(nn);
-      add_members(kin, c * nm / chunks, (c + 1) * nm / chunks, part[c], tangent);
+      add(c, chunks, part[c]);
     }
     for (const MemberLoads& l : part) {
       for (int n = 0; n < nn; ++n) loads.F[n] += l.F[n], loads.M[n] += l.M[n];

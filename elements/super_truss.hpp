@@ -3,6 +3,7 @@
 // kinematic map from the end sections to the lattice nodes.
 #pragma once
 
+#include "core/pack.hpp"
 #include "elements/super_truss_map.hpp"
 #include "elements/timoshenko_beam.hpp"
 
@@ -92,6 +93,8 @@ class SuperTrussElement final : public Element {
   struct Evaluation;
   struct MemberLoads;
   void evaluate(std::span<const SlotState<double>> s, const ElementContext& ctx, Vec12& r, ElementTangents* t) const;
+  /// The members of batches [first, last), four at a time: their forces on the nodes and, with
+  /// tangent, their stiffness projected with the node Jacobians.
   void add_members(const Evaluation& kinematics, int first, int last, MemberLoads& out, bool tangent) const;
   struct LocalTangents {
     Mat12 K, C, M;
@@ -103,6 +106,14 @@ class SuperTrussElement final : public Element {
   TrussGeometry geometry_;
   SuperTrussMap map_;
   std::vector<Member> members_;
+  /// Members in fours, evaluated together (the last batch padded with stiffless copies of its first).
+  struct MemberBatch {
+    int count = 0;
+    int a[Pack4::kLanes], b[Pack4::kLanes];
+    CorotationalStiffnessT<Pack4> stiffness;
+    Mat3T<Pack4> offset_a, offset_b;
+  };
+  std::vector<MemberBatch> batches_;
   LumpedMass lumped_;
   // Translational mass as 8 point pairs (unit point k, row k of the moment matrix) and the weight
   // as one point; rotary inertia of each end section's nodes, in the end frame.

@@ -5,6 +5,9 @@
 
 #include "elements/energy_ad.hpp"
 
+#include <cmath>
+#include <stdexcept>
+
 namespace latticedyn {
 
 namespace {
@@ -55,6 +58,11 @@ SuperTrussMap::SuperTrussMap(const TrussSectionSpec& spec, const TrussGeometry& 
       mb.internal.push_back(static_cast<int>(n));
       internal_.push_back(static_cast<int>(n));
     }
+    // internal_rotations steps the twist from station to station: the k-th internal node must
+    // sit at xi = k / order (the geometry numbers a beam's stations in order).
+    for (std::size_t k = 0; k < mb.internal.size(); ++k)
+      if (std::abs(nodes_[mb.internal[k]].xi - double(k + 1) / spec.order) > 1e-12)
+        throw std::logic_error("SuperTrussMap: the internal nodes of a main beam are not in station order");
     main_beams_.push_back(mb);
   }
 }
@@ -120,6 +128,11 @@ void internal_rotations(const SuperTrussMap& map, std::span<const SlotState<doub
       dphi12.segment<3>(6) += gB * F.col(l).transpose();
     }
     const Mat3 dm_d = Ft * R1t;  // times g2: dm/d(d)
+    // The twist phi = xi phi12 at the beam's stations xi = k / order: sines and cosines by the
+    // angle-addition recurrence from those of one step instead of a sincos per node.
+    const double dxi = mb.internal.empty() ? 0.0 : map.node(mb.internal.front()).xi;
+    const double s1 = std::sin(dxi * phi12.x), c1 = std::cos(dxi * phi12.x);
+    double sk = 0.0, ck = 1.0;  // sin, cos of k dxi phi12
     for (int n : mb.internal) {
       const SuperTrussMap::Node& nd = map.node(n);
       InternalRotation& o = out[k++];
@@ -131,19 +144,21 @@ void internal_rotations(const SuperTrussMap& map, std::span<const SlotState<doub
       const J rhoj = sqrt(mj(0) * mj(0) + mj(1) * mj(1));
       angle_rates(mj(1), mj(0), o.ydot(2), o.yddot(2));
       angle_rates(-mj(2), rhoj, o.ydot(1), o.yddot(1));
-      const double phi = nd.xi * phi12.x;
       o.ydot(0) = nd.xi * phi12.dx;
       o.yddot(0) = nd.xi * phi12.ddx;
       const double rho2 = m(0) * m(0) + m(1) * m(1), rho = std::sqrt(rho2), mm = rho2 + m(2) * m(2), mn = std::sqrt(mm);
-      o.sphi = std::sin(phi), o.cphi = std::cos(phi);
+      const double sn = sk * c1 + ck * s1, cn = ck * c1 - sk * s1;
+      sk = sn, ck = cn;
+      o.sphi = sn, o.cphi = cn;
       o.spsi = -m(2) / mn, o.cpsi = rho / mn;
       const double st = m(1) / rho, ct = m(0) / rho;
       // C = Rz(theta) Ry(psi) Rx(phi): the first column is m / |m|.
       Mat3 Rzy;
       Rzy << ct * o.cpsi, -st, ct * o.spsi, st * o.cpsi, ct, st * o.spsi, -o.spsi, 0.0, o.cpsi;
-      Mat3 Rx;
-      Rx << 1, 0, 0, 0, o.cphi, -o.sphi, 0, o.sphi, o.cphi;
-      o.C = Rzy * Rx;
+      // C = Rzy Rx(phi): Rx mixes the last two columns only.
+      o.C.col(0) = Rzy.col(0);
+      o.C.col(1) = o.cphi * Rzy.col(1) + o.sphi * Rzy.col(2);
+      o.C.col(2) = o.cphi * Rzy.col(2) - o.sphi * Rzy.col(1);
       o.T << 1, 0, -o.spsi, 0, o.cphi, o.sphi * o.cpsi, 0, -o.sphi, o.cphi * o.cpsi;
       o.A = A;
       o.m = m;
