@@ -3,6 +3,7 @@
 // velocities and accelerations (the super truss's internal nodes) on any scalar type S.
 #pragma once
 
+#include "core/fast_atan2.hpp"
 #include "core/types.hpp"
 
 #include <cmath>
@@ -102,7 +103,12 @@ Jet<S> atan2(const Jet<S>& y, const Jet<S>& x) {
   const S D = x.x * x.x + y.x * y.x;
   const S N = x.x * y.dx - y.x * x.dx;
   const S dD = S(2.0) * (x.x * x.dx + y.x * y.dx);
-  return Jet<S>(atan2(y.x, x.x), N / D, (x.x * y.ddx - y.x * x.ddx) / D - N * dD / (D * D));
+  S value;
+  if constexpr (std::is_same_v<S, double>)
+    value = fast_atan2(y.x, x.x);
+  else
+    value = atan2(y.x, x.x);
+  return Jet<S>(value, N / D, (x.x * y.ddx - y.x * x.ddx) / D - N * dD / (D * D));
 }
 
 /// The value of a jet's scalar (for branches on removable singularities).

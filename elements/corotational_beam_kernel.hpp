@@ -80,6 +80,18 @@ CorotationalDeformation<S> corotational_deformation(const CorotationalStiffnessT
   return out;
 }
 
+/// A point of the deformed axis at xi in [0, 1] (drawing): r1 + xi d plus the cubic deflection in
+/// the co-rotational frame with zero end displacements and end slopes v' = theta_z, w' = -theta_y
+/// (the Hermite slope shapes L (xi - 2 xi^2 + xi^3) and L (xi^3 - xi^2)).
+template <class S>
+Vec3T<S> corotational_axis_point(const CorotationalDeformation<S>& def, const Vec3T<S>& r1, const Vec3T<S>& d,
+                                 double xi) {
+  const double n1 = xi - 2.0 * xi * xi + xi * xi * xi, n3 = xi * xi * xi - xi * xi;
+  const S v = (def.th1(2) * n1 + def.th2(2) * n3) * def.l;
+  const S w = -((def.th1(1) * n1 + def.th2(1) * n3) * def.l);
+  return r1 + d * S(xi) + def.Rr.col(1) * v + def.Rr.col(2) * w;
+}
+
 /// U = EA/(2 L0) u^2 + GJ/(2 L0) (th2x - th1x)^2
 ///   + sum over bending planes EI/(2 L0 (1 + Phi)) [(4 + Phi)(th1^2 + th2^2) + 2 (2 - Phi) th1 th2].
 template <class S, class K>

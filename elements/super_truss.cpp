@@ -418,16 +418,37 @@ void SuperTrussElement::output(std::span<const SlotState<double>> s, const Eleme
     const Vec3 w = o.C.transpose() * (F.transpose() * s[1].vel) + o.T * o.ydot;  // = Jw dq
     e.kinetic += 0.5 * w.dot(lumped_.rotary[internal[k]] * w);
   }
+  // The members four at a time (TimoshenkoBeam::deformed_state on Pack4).
   const int nm = num_members();
+  constexpr int kPoints = TimoshenkoBeam::kAxisPoints;
   out.axial_force.reset();
   out.polylines.resize(nm);
   out.polyline_axial_forces.resize(nm);
-  for (int k = 0; k < nm; ++k) {
-    const Member& m = members_[k];
-    double strain;
-    m.beam->deformed_state(p[m.a], p[m.b] - p[m.a], R[m.a] * m.offset_a, R[m.b] * m.offset_b, &strain,
-                           &out.polyline_axial_forces[k], &out.polylines[k]);
-    e.strain += strain;
+  Vec3T<Pack4> r1, d;
+  Mat3T<Pack4> Ra, Rb;
+  for (std::size_t k = 0; k < batches_.size(); ++k) {
+    const MemberBatch& bt = batches_[k];
+    for (int l = 0; l < Pack4::kLanes; ++l) {
+      const Vec3 &pa = p[bt.a[l]], &pb = p[bt.b[l]];
+      const Mat3 &Ral = R[bt.a[l]], &Rbl = R[bt.b[l]];
+      for (int i = 0; i < 3; ++i) {
+        r1(i)[l] = pa(i);
+        d(i)[l] = pb(i) - pa(i);
+        for (int j = 0; j < 3; ++j) Ra(i, j)[l] = Ral(i, j), Rb(i, j)[l] = Rbl(i, j);
+      }
+    }
+    const CorotationalDeformation<Pack4> def =
+        corotational_deformation<Pack4>(bt.stiffness, d, Mat3T<Pack4>(Ra * bt.offset_a), Mat3T<Pack4>(Rb * bt.offset_b));
+    const Pack4 strain = corotational_strain_energy<Pack4>(bt.stiffness, def), axial = def.u * bt.stiffness.ea;
+    Vec3T<Pack4> axis[kPoints];
+    for (int i = 0; i < kPoints; ++i) axis[i] = corotational_axis_point(def, r1, d, i / (kPoints - 1.0));
+    for (int l = 0; l < bt.count; ++l) {
+      const std::size_t m = k * Pack4::kLanes + static_cast<std::size_t>(l);
+      e.strain += strain[l];
+      out.polyline_axial_forces[m] = axial[l];
+      out.polylines[m].resize(kPoints);
+      for (int i = 0; i < kPoints; ++i) out.polylines[m][i] = lane(axis[i], l);
+    }
   }
 }
 

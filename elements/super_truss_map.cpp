@@ -109,7 +109,6 @@ void internal_rotations(const SuperTrussMap& map, std::span<const SlotState<doub
   const auto relj = SuperTrussMap::relative_pose<J>(dj, rotation_jet<double>(R1, s[1].vel, s[1].acc),
                                                     rotation_jet<double>(R2, s[3].vel, s[3].acc));
   const Mat3 Q = value_of(relj.Q), R1t = R1.transpose();
-  const Vec3 dloc(relj.d(0).x, relj.d(1).x, relj.d(2).x);
   out.resize(map.internal_nodes().size());
   std::size_t k = 0;
   for (const SuperTrussMap::MainBeam& mb : map.main_beams()) {
@@ -119,13 +118,15 @@ void internal_rotations(const SuperTrussMap& map, std::span<const SlotState<doub
     // d(phi12)/d(delta_1, delta_2) from C12' = -skew(F^T d1) C12 + C12 skew(F^T d2).
     const Mat3 C12 = FtQ * F;
     const double c21 = C12(2, 1), c22 = C12(2, 2), q = c21 * c21 + c22 * c22;
+    // With A_l = -skew(e_l) C12 and B_l = C12 skew(e_l) the changes of C12 under delta_1, delta_2
+    // along F e_l, d(phi12) = (c22 dC(2,1) - c21 dC(2,2)) / q takes these values (rows 2 of A_l
+    // and B_l written out):
     Row9 dphi12 = Row9::Zero();
-    for (int l = 0; gradients && l < 3; ++l) {
-      const Mat3 Sl = skew<double>(Vec3(Vec3::Unit(l)));
-      const Mat3 dA = -Sl * C12, dB = C12 * Sl;
-      const double gA = (c22 * dA(2, 1) - c21 * dA(2, 2)) / q, gB = (c22 * dB(2, 1) - c21 * dB(2, 2)) / q;
-      dphi12.segment<3>(3) += gA * F.col(l).transpose();
-      dphi12.segment<3>(6) += gB * F.col(l).transpose();
+    if (gradients) {
+      const double gA0 = (c21 * C12(1, 2) - c22 * C12(1, 1)) / q, gA1 = (c22 * C12(0, 1) - c21 * C12(0, 2)) / q;
+      const double gB1 = -c21 * C12(2, 0) / q, gB2 = -c22 * C12(2, 0) / q;  // gB0 = (c21^2 + c22^2) / q = 1
+      dphi12.segment<3>(3) = (gA0 * F.col(0) + gA1 * F.col(1)).transpose();
+      dphi12.segment<3>(6) = (F.col(0) + gB1 * F.col(1) + gB2 * F.col(2)).transpose();
     }
     const Mat3 dm_d = Ft * R1t;  // times g2: dm/d(d)
     // The twist phi = xi phi12 at the beam's stations xi = k / order: sines and cosines by the
@@ -146,12 +147,14 @@ void internal_rotations(const SuperTrussMap& map, std::span<const SlotState<doub
       angle_rates(-mj(2), rhoj, o.ydot(1), o.yddot(1));
       o.ydot(0) = nd.xi * phi12.dx;
       o.yddot(0) = nd.xi * phi12.ddx;
-      const double rho2 = m(0) * m(0) + m(1) * m(1), rho = std::sqrt(rho2), mm = rho2 + m(2) * m(2), mn = std::sqrt(mm);
+      // Two divisions for the node's sines, cosines and angle gradients.
+      const double rho = rhoj.x, rho2 = rho * rho, mm = rho2 + m(2) * m(2), mn = std::sqrt(mm);
+      const double irho = 1.0 / rho, imn = 1.0 / mn, irho2 = irho * irho, imm = imn * imn;
       const double sn = sk * c1 + ck * s1, cn = ck * c1 - sk * s1;
       sk = sn, ck = cn;
       o.sphi = sn, o.cphi = cn;
-      o.spsi = -m(2) / mn, o.cpsi = rho / mn;
-      const double st = m(1) / rho, ct = m(0) / rho;
+      o.spsi = -m(2) * imn, o.cpsi = rho * imn;
+      const double st = m(1) * irho, ct = m(0) * irho;
       // C = Rz(theta) Ry(psi) Rx(phi): the first column is m / |m|.
       Mat3 Rzy;
       Rzy << ct * o.cpsi, -st, ct * o.spsi, st * o.cpsi, ct, st * o.spsi, -o.spsi, 0.0, o.cpsi;
@@ -167,9 +170,10 @@ void internal_rotations(const SuperTrussMap& map, std::span<const SlotState<doub
       o.Tdot << 0, 0, -o.cpsi * dpsi, 0, -o.sphi * dphi, o.cphi * o.cpsi * dphi - o.sphi * o.spsi * dpsi, 0,
           -o.cphi * dphi, -o.sphi * o.cpsi * dphi - o.cphi * o.spsi * dpsi;
       // Y: dy/d(d, delta_1, delta_2) through dm = [g2 F^T R1^T, F^T skew(w), -F^T Q skew(t2)].
-      const Vec3 w = dloc * nd.g2 + Q * nd.t2;
-      const Eigen::RowVector3d gtheta(-m(1) / rho2, m(0) / rho2, 0.0);
-      const Eigen::RowVector3d gpsi(m(2) * m(0) / (rho * mm), m(2) * m(1) / (rho * mm), -rho / mm);
+      const Vec3 w(wj(0).x, wj(1).x, wj(2).x);  // g2 R1^T d + Q t2
+      const Eigen::RowVector3d gtheta(-m(1) * irho2, m(0) * irho2, 0.0);
+      const double gk = m(2) * irho * imm;
+      const Eigen::RowVector3d gpsi(gk * m(0), gk * m(1), -rho * imm);
       o.dm.block<3, 3>(0, 0) = nd.g2 * dm_d;
       o.dm.block<3, 3>(0, 3) = Ft * skew<double>(w);
       o.dm.block<3, 3>(0, 6) = -FtQ * skew<double>(nd.t2);

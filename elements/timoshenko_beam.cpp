@@ -2,8 +2,6 @@
 // form inertia and gravity.
 #include "elements/timoshenko_beam.hpp"
 
-#include "core/hermite.hpp"
-
 #include <cmath>
 #include <stdexcept>
 
@@ -98,17 +96,8 @@ void TimoshenkoBeam::deformed_state(const Vec3& r1, const Vec3& d, const Mat3& R
   if (strain) *strain = corotational_strain_energy<double>(stiffness_, def);
   if (axial) *axial = stiffness_.ea * def.u;
   if (!axis) return;
-  const Vec3 &a = def.th1, &b = def.th2;
-  const double l = d.norm();
-  axis->resize(5);
-  for (int k = 0; k <= 4; ++k) {
-    const double xi = k / 4.0;
-    const HermiteCubic<double> h = hermite_cubic(xi, l);
-    // Deflection with zero end displacements and end slopes v' = theta_z, w' = -theta_y.
-    const double v = h.N[1] * a(2) + h.N[3] * b(2);
-    const double w = -(h.N[1] * a(1) + h.N[3] * b(1));
-    (*axis)[k] = r1 + xi * d + def.Rr.col(1) * v + def.Rr.col(2) * w;
-  }
+  axis->resize(kAxisPoints);
+  for (int k = 0; k < kAxisPoints; ++k) (*axis)[k] = corotational_axis_point(def, r1, d, k / (kAxisPoints - 1.0));
 }
 
 std::vector<Vec3> TimoshenkoBeam::axis_points(std::span<const SlotState<double>> s, const ElementContext&) const {

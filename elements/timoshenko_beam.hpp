@@ -34,6 +34,7 @@ struct BeamProperties {
 /// with the gyroscopic term omega x J omega. Gravity: half the weight on each end.
 class TimoshenkoBeam final : public Element {
  public:
+  static constexpr int kAxisPoints = 5;  ///< points along a drawn axis
   static constexpr std::array<SlotKind, 4> kSlots = {SlotKind::translation, SlotKind::rotation,
                                                       SlotKind::translation, SlotKind::rotation};
 
