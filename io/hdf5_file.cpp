@@ -141,9 +141,13 @@ Series::Series(hid_t parent, const std::string& name, std::vector<hsize_t> row, 
   ctx.check(H5Pset_chunk(dcpl.get(), rank, chunk.data()), what);
   // Every entry is written before it is read: no fill values (HDF5 would zero each new chunk).
   ctx.check(H5Pset_fill_time(dcpl.get(), H5D_FILL_TIME_NEVER), what);
+  // A series whose chunk is one row is only ever written in whole chunks: without a chunk cache
+  // HDF5 writes them straight to the file instead of copying each through the cache first.
+  const Hid dapl = ctx.own(H5Pcreate(H5P_DATASET_ACCESS), H5Pclose, what);
+  if (chunk[0] == 1) ctx.check(H5Pset_chunk_cache(dapl.get(), 0, 0, H5D_CHUNK_CACHE_W0_DEFAULT), what);
   ds_ = ctx.own(
       H5Dcreate2(parent, name.c_str(), single ? H5T_IEEE_F32LE : H5T_IEEE_F64LE, space.get(), H5P_DEFAULT, dcpl.get(),
-                 H5P_DEFAULT),
+                 dapl.get()),
       H5Dclose, what);
   write_string_attribute(ds_.get(), "units", units, ctx);
 }

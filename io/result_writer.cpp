@@ -76,6 +76,7 @@ struct ResultWriter::Impl {
   std::vector<ElementOutput> element_out;  // per element: energy, axial forces, drawn polylines
   ElementEnergy energy;
   std::vector<double> points;   // viz points, 3 per point
+  std::vector<double> row;      // one dataset's row of the current step
 
   Impl(const Model& m, ResultWriterOptions o);
   ~Impl();
@@ -437,11 +438,12 @@ void ResultWriter::append(const ModelState& state) {
       w.create_viz();
       w.create_state(static_cast<hsize_t>(state.coordinates().size()));
     }
-    std::vector<double> row;
+    // Every fill writes its whole row: one buffer, as long as the longest, without zeroing.
     for (auto& o : w.outputs) {
-      row.assign(static_cast<std::size_t>(o.series.row_size()), 0.0);
-      o.fill(state, row.data());
-      o.series.append(row.data());
+      const auto n = static_cast<std::size_t>(o.series.row_size());
+      if (w.row.size() < n) w.row.resize(n);
+      o.fill(state, w.row.data());
+      o.series.append(w.row.data());
     }
   } catch (...) {
     w.broken = true;
