@@ -9,9 +9,31 @@
 
 namespace latticedyn {
 
-FullLattice add_full_lattice(ModelBuilder& builder, const std::string& name, const TrussSectionSpec& spec,
-                             const TrussGeometry& g, const FullLatticeOptions& opt) {
+std::vector<std::shared_ptr<const Element>> lattice_member_elements(const TrussSectionSpec& spec,
+                                                                    const TrussGeometry& g,
+                                                                    const FullLatticeOptions& opt) {
   if (opt.elements_per_member < 1) throw std::invalid_argument("elements per member must be at least 1");
+  std::vector<std::shared_ptr<const Element>> out;
+  out.reserve(g.members.size());
+  for (const TrussMember& m : g.members) {
+    const BeamProperties beam{spec.material, g.section(spec, m.kind), m.length / opt.elements_per_member, 0.0};
+    if (opt.member == MemberElement::timoshenko_beam)
+      out.push_back(std::make_shared<TimoshenkoBeam>(beam));
+    else
+      out.push_back(std::make_shared<CubicSplineBeam>(CubicSplineBeamProperties{beam, 5}));
+  }
+  return out;
+}
+
+FullLattice add_full_lattice(ModelBuilder& builder, const std::string& name, const TrussSectionSpec& spec,
+                             const TrussGeometry& g, const FullLatticeOptions& opt,
+                             const std::vector<std::shared_ptr<const Element>>* member_elements) {
+  if (opt.elements_per_member < 1) throw std::invalid_argument("elements per member must be at least 1");
+  std::vector<std::shared_ptr<const Element>> made;
+  if (!member_elements) {
+    made = lattice_member_elements(spec, g, opt);
+    member_elements = &made;
+  }
   FullLattice out;
   out.body = builder.add_body(name, "lattice");
   const Mat3& Q = opt.orientation;
@@ -30,14 +52,8 @@ FullLattice add_full_lattice(ModelBuilder& builder, const std::string& name, con
   // Members: n elements each, in the member's frame; rigid connection = constant offset from the
   // node's frame to the member's.
   for (const TrussMember& m : g.members) {
-    const SectionProperties& section = g.section(spec, m.kind);
     const int ne = opt.elements_per_member;
-    BeamProperties beam{spec.material, section, m.length / ne, 0.0};
-    std::shared_ptr<const Element> element;
-    if (opt.member == MemberElement::timoshenko_beam)
-      element = std::make_shared<TimoshenkoBeam>(beam);
-    else
-      element = std::make_shared<CubicSplineBeam>(CubicSplineBeamProperties{beam, 5});
+    const std::shared_ptr<const Element>& element = member_elements->at(static_cast<std::size_t>(out.members));
     const Mat3 member_frame = Q * m.frame0;
     const Vec3 a = place(g.nodes[m.a].position), b = place(g.nodes[m.b].position);
     // The member's own nodes: its two lattice nodes and ne - 1 between them.

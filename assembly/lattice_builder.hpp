@@ -30,8 +30,17 @@ struct FullLattice {
   int nodes = 0, members = 0, elements = 0;
 };
 
-/// Adds the body `name` with the members of `geometry` (generated from `spec`) to the builder.
+/// The beam element of every member of `geometry` for `options`' member type and elements per
+/// member, in the order of geometry.members. Elements hold no state, so one set serves a member's
+/// elements and every body of the section alike.
+std::vector<std::shared_ptr<const Element>> lattice_member_elements(const TrussSectionSpec& spec,
+                                                                    const TrussGeometry& geometry,
+                                                                    const FullLatticeOptions& options);
+
+/// Adds the body `name` with the members of `geometry` (generated from `spec`) to the builder,
+/// their elements from `member_elements` (lattice_member_elements; made here when null).
 FullLattice add_full_lattice(ModelBuilder& builder, const std::string& name, const TrussSectionSpec& spec,
-                             const TrussGeometry& geometry, const FullLatticeOptions& options);
+                             const TrussGeometry& geometry, const FullLatticeOptions& options,
+                             const std::vector<std::shared_ptr<const Element>>* member_elements = nullptr);
 
 }  // namespace latticedyn

@@ -24,18 +24,6 @@ int Constraint::rows() const {
   return 0;
 }
 
-int Model::find_body(const std::string& name) const {
-  for (std::size_t i = 0; i < bodies.size(); ++i)
-    if (bodies[i].name == name) return static_cast<int>(i);
-  return -1;
-}
-
-int Model::find_joint(const std::string& name) const {
-  for (std::size_t i = 0; i < joints.size(); ++i)
-    if (joints[i].name == name) return static_cast<int>(i);
-  return -1;
-}
-
 int Model::num_free_dofs() const {
   int n = 0;
   for (const auto& b : blocks)

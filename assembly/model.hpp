@@ -9,6 +9,7 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 namespace latticedyn {
@@ -105,6 +106,26 @@ struct Body {
   std::vector<int> draw_sequence;
 };
 
+/// Names to indexes in a vector of named things, by hash: lookups in constant time while a model
+/// of a million joints is built. Rebuilt from the vector when it has fallen behind (a model whose
+/// vectors were filled by hand).
+class NameIndex {
+ public:
+  void insert(const std::string& name, int index) { map_.emplace(name, index); }
+  template <class Named>
+  int find(const std::vector<Named>& items, const std::string& name) const {
+    if (map_.size() != items.size()) {
+      map_.clear();
+      for (std::size_t i = 0; i < items.size(); ++i) map_.emplace(items[i].name, static_cast<int>(i));
+    }
+    const auto it = map_.find(name);
+    return it == map_.end() ? -1 : it->second;
+  }
+
+ private:
+  mutable std::unordered_map<std::string, int> map_;
+};
+
 struct Model {
   std::string title;
   Vec3 gravity = Vec3::Zero();
@@ -117,8 +138,10 @@ struct Model {
   std::vector<Drive> drives;
   std::vector<std::string> drive_names;
 
-  int find_body(const std::string& name) const;   ///< -1 if absent
-  int find_joint(const std::string& name) const;  ///< by "body.joint"
+  NameIndex body_index, joint_index;  ///< ModelBuilder keeps them as it adds bodies and joints
+
+  int find_body(const std::string& name) const { return body_index.find(bodies, name); }   ///< -1 if absent
+  int find_joint(const std::string& name) const { return joint_index.find(joints, name); }  ///< by "body.joint"
   int num_free_dofs() const;
   int num_multipliers() const;
 };

@@ -30,6 +30,7 @@ int ModelBuilder::add_block(DofBlock block) {
 
 int ModelBuilder::add_body(std::string name, std::string type) {
   if (model_.find_body(name) >= 0) throw ModelError("body '" + name + "' is defined twice");
+  model_.body_index.insert(name, static_cast<int>(model_.bodies.size()));
   model_.bodies.push_back(Body{std::move(name), std::move(type), {}, {}, {}});
   return static_cast<int>(model_.bodies.size()) - 1;
 }
@@ -52,6 +53,7 @@ int ModelBuilder::add_joint(int body, Joint joint) {
   if (joint.rotation_block < 0 && joint.offset.norm() > 0)
     throw ModelError("joint '" + joint.name + "' has an offset on a node without orientation");
   if (model_.find_joint(joint.name) >= 0) throw ModelError("joint '" + joint.name + "' is defined twice");
+  model_.joint_index.insert(joint.name, static_cast<int>(model_.joints.size()));
   model_.joints.push_back(std::move(joint));
   const int id = static_cast<int>(model_.joints.size()) - 1;
   model_.bodies.at(body).joints.push_back(id);

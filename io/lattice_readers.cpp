@@ -72,6 +72,13 @@ const TrussSectionSpec& truss_section_of(const ReaderContext& ctx, const InputNo
   return it->second;
 }
 
+// The parts every body of the section names shares, its geometry generated on first use.
+ReaderContext::TrussSectionParts& truss_parts_of(ReaderContext& ctx, const InputNode& n, const TrussSectionSpec& spec) {
+  ReaderContext::TrussSectionParts& parts = ctx.truss_parts[n["section"].as_string()];
+  if (!parts.geometry) parts.geometry = std::make_shared<const TrussGeometry>(build_truss_geometry(spec));
+  return parts;
+}
+
 }  // namespace
 
 void read_super_truss(ReaderContext& ctx, const InputNode& n, const std::string& name) {
@@ -83,7 +90,8 @@ void read_super_truss(ReaderContext& ctx, const InputNode& n, const std::string&
   else
     n.allow_only({"name", "type", "section", "position", "rotation", "rotation_deg", "axis_angle", "cardan_zyx_deg"});
   const TrussSectionSpec& spec = truss_section_of(ctx, n);
-  const TrussGeometry g = build_truss_geometry(spec);
+  ReaderContext::TrussSectionParts& parts = truss_parts_of(ctx, n, spec);
+  if (!parts.super_truss) parts.super_truss = std::make_shared<SuperTrussElement>(spec, *parts.geometry);
   const Vec3 position = n.get_vec3("position", Vec3::Zero());
   const Mat3 Q = ReaderContext::orientation(n);
   const int body = ctx.builder.add_body(name, "super_truss");
@@ -93,7 +101,7 @@ void read_super_truss(ReaderContext& ctx, const InputNode& n, const std::string&
   const int r1 = ctx.builder.add_block(DofBlock::rotation(Q, Vec3::Zero(), name + ".1"));
   const int t2 = ctx.builder.add_block(DofBlock::translation(origin2, Vec3::Zero(), name + ".2"));
   const int r2 = ctx.builder.add_block(DofBlock::rotation(Q, Vec3::Zero(), name + ".2"));
-  ctx.builder.add_element(body, std::make_shared<SuperTrussElement>(spec, g), {{t1}, {r1}, {t2}, {r2}});
+  ctx.builder.add_element(body, parts.super_truss, {{t1}, {r1}, {t2}, {r2}});
   // Joints: the end sections' reference points, and every end-section node on its rigid section.
   auto joint = [&](int t, int r, const Vec3& offset) {
     Joint j;
@@ -123,8 +131,10 @@ void read_lattice(ReaderContext& ctx, const InputNode& n, const std::string& nam
   opt.elements_per_member = n.get_int("elements_per_member", 1);
   if (opt.elements_per_member < 1 || opt.elements_per_member > 100) n["elements_per_member"].fail("expected 1 to 100");
   opt.rigid_ends = n.get_bool("rigid_ends", true);
-  const TrussGeometry g = build_truss_geometry(spec);
-  const FullLattice lattice = add_full_lattice(ctx.builder, name, spec, g, opt);
+  ReaderContext::TrussSectionParts& parts = truss_parts_of(ctx, n, spec);
+  auto& elements = parts.member_elements[{static_cast<int>(opt.member), opt.elements_per_member}];
+  if (elements.empty()) elements = lattice_member_elements(spec, *parts.geometry, opt);
+  const FullLattice lattice = add_full_lattice(ctx.builder, name, spec, *parts.geometry, opt, &elements);
   BodyRecord rec{lattice.body, "lattice", {}};
   for (const auto& [jname, index] : lattice.joints) rec.joints[jname] = index;
   ctx.bodies[name] = rec;

@@ -8,8 +8,10 @@
 #include "io/reader_context.hpp"
 #include "io/recorded_state.hpp"
 
+#include <chrono>
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <set>
 
 namespace latticedyn {
@@ -244,14 +246,38 @@ Simulation read(const InputNode& root, const std::string& source) {
 
 }  // namespace
 
-Simulation read_simulation(const std::string& path) { return read(InputNode::load_file(path), path); }
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
+// Reads the parsed document, timing both stages (the document is released inside the second).
+template <class Load>
+Simulation timed_read(Load load, const std::string& name) {
+  const auto start = Clock::now();
+  std::optional<InputNode> doc(load());
+  const double parse = seconds_since(start);
+  const auto built = Clock::now();
+  Simulation sim = read(*doc, name);
+  doc.reset();
+  sim.parse_seconds = parse;
+  sim.build_seconds = seconds_since(built);
+  return sim;
+}
+
+}  // namespace
+
+Simulation read_simulation(const std::string& path) {
+  return timed_read([&] { return InputNode::load_file(path); }, path);
+}
 
 Simulation read_simulation(const std::string& path, const std::vector<KeyOverride>& overrides) {
-  return read(InputNode::load_file(path, overrides), path);
+  return timed_read([&] { return InputNode::load_file(path, overrides); }, path);
 }
 
 Simulation read_simulation_from_string(const std::string& yaml, const std::string& name) {
-  return read(InputNode::load_string(yaml, name), name);
+  return timed_read([&] { return InputNode::load_string(yaml, name); }, name);
 }
 
 }  // namespace latticedyn

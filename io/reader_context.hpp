@@ -8,7 +8,9 @@
 #include "io/input_node.hpp"
 
 #include <map>
+#include <memory>
 #include <string>
+#include <vector>
 
 namespace latticedyn {
 
@@ -29,6 +31,17 @@ class ReaderContext {
   /// `truss_bodies`: empty (as given), "lattice" or "super_truss": the type every lattice and
   /// super truss body is built as, so one model file gives the full and the reduced model.
   std::string truss_bodies;
+
+  /// What every body of one truss section shares (elements hold no state): its geometry, the
+  /// beam element of each member for a full lattice, its super truss element. Built once per
+  /// section (and member type, elements per member): a lattice of 40,960 bays of two sections
+  /// generates two geometries, not 40,960.
+  struct TrussSectionParts {
+    std::shared_ptr<const TrussGeometry> geometry;
+    std::map<std::pair<int, int>, std::vector<std::shared_ptr<const Element>>> member_elements;  ///< (member type, per member)
+    std::shared_ptr<const Element> super_truss;
+  };
+  std::map<std::string, TrussSectionParts> truss_parts;
 
   /// A material given by name (from `materials`) or inline as a map.
   Material material(const InputNode& n) const;

@@ -106,5 +106,36 @@ TEST(DofMap, PartitionsOverRanksConsistently) {
   EXPECT_EQ(total_rows, m.num_free_dofs() + m.num_multipliers());
 }
 
+// Names are found by hash (the builder keeps the index as it adds), duplicates are still refused,
+// and a model whose vectors were filled by hand rebuilds its index on the first lookup.
+TEST(ModelBuilder, FindsBodiesAndJointsByNameAndRefusesDuplicates) {
+  ModelBuilder b;
+  for (int i = 0; i < 2000; ++i) {
+    const int body = b.add_body("bay" + std::to_string(i), "rigid_body");
+    Joint j;
+    j.name = "bay" + std::to_string(i) + ".1";
+    j.translation_block = b.add_block(DofBlock::translation(Vec3(i, 0, 0), Vec3::Zero(), j.name));
+    b.add_joint(body, j);
+  }
+  EXPECT_THROW(b.add_body("bay7", "rigid_body"), ModelError);
+  Joint again;
+  again.name = "bay7.1";
+  again.translation_block = 0;
+  EXPECT_THROW(b.add_joint(1, again), ModelError);
+  const Model m = b.build();
+  EXPECT_EQ(m.find_body("ground"), 0);
+  EXPECT_EQ(m.find_body("bay1999"), 2000);
+  EXPECT_EQ(m.find_joint("bay1234.1"), 1234);
+  EXPECT_EQ(m.find_joint("bay1234.2"), -1);
+  EXPECT_EQ(m.find_body("nowhere"), -1);
+
+  Model by_hand;
+  by_hand.joints.resize(3);
+  for (int i = 0; i < 3; ++i) by_hand.joints[i].name = "j" + std::to_string(i);
+  EXPECT_EQ(by_hand.find_joint("j2"), 2);
+  by_hand.joints.push_back(Joint{"j3"});
+  EXPECT_EQ(by_hand.find_joint("j3"), 3);
+}
+
 }  // namespace
 }  // namespace latticedyn
