@@ -199,7 +199,7 @@ PetscErrorCode GeneralizedAlphaIntegrator::i2jacobian(TS, PetscReal t, Vec U, Ve
   double inertia;
   PetscCall(self->stage(t, U, V, A, &at, &how, &inertia));
   PetscBool switched;
-  PetscCall(fall_back_after_failed_factorisation(self->ksp_, &switched));
+  PetscCall(recover_from_failed_factorisation(self->ksp_, &switched));
   if (switched) self->reuse_count_ = self->settings_.jacobian_reuse;  // a fresh matrix for the new factorisation
   // Jacobian reuse (a chord Newton method): leaving J untouched keeps its state, so PETSc keeps
   // the factorisation too. Only while the shifts, i.e. the step size, stay the same.

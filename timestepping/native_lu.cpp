@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <functional>
 #include <numeric>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -176,21 +177,30 @@ PetscErrorCode use_native_lu(KSP ksp) {
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode fall_back_after_failed_factorisation(KSP ksp, PetscBool* switched) {
+PetscErrorCode recover_from_failed_factorisation(KSP ksp, PetscBool* reset) {
   PC pc;
   PCFailedReason reason;
   PetscBool lu;
-  MatSolverType type;
+  MatSolverType type = nullptr;
   PetscFunctionBeginUser;
-  *switched = PETSC_FALSE;
+  *reset = PETSC_FALSE;
   PetscCall(KSPGetPC(ksp, &pc));
   PetscCall(PCGetFailedReason(pc, &reason));
   if (reason == PC_NOERROR) PetscFunctionReturn(0);
   PetscCall(PetscObjectTypeCompare((PetscObject)pc, PCLU, &lu));
   if (!lu) PetscFunctionReturn(0);
   PetscCall(PCFactorGetMatSolverType(pc, &type));
-  if (!type || std::string_view(type) != MATSOLVERPETSC) PetscFunctionReturn(0);
-  PetscCall(PetscInfo(pc, "PETSc's LU failed (%s): UMFPACK, which pivots, from here on\n", PCFailedReasons[reason]));
+  const bool native = type && std::string_view(type) == MATSOLVERPETSC;
+  const std::string package = type ? type : "";  // PCReset frees the string type points to
+  PetscCall(PetscInfo(pc, "the factorisation by %s failed (%s): %s\n", package.c_str(), PCFailedReasons[reason],
+                      native ? "UMFPACK, which pivots, from here on" : "set up anew"));
+  if (package == MATSOLVERMUMPS && reason == PC_FACTOR_OUTMEMORY) {
+    // Delayed pivots outgrew MUMPS's working space: twice as much for the next factorisation.
+    PetscInt relax = 100;
+    PetscCall(PetscOptionsGetInt(nullptr, nullptr, "-mat_mumps_icntl_14", &relax, nullptr));
+    const std::string doubled = std::to_string(2 * std::max<PetscInt>(relax, 50));
+    PetscCall(PetscOptionsSetValue(nullptr, "-mat_mumps_icntl_14", doubled.c_str()));
+  }
   // PCReset drops the operators too: keep them and hand them back.
   Mat A, P;
   PetscCall(KSPGetOperators(ksp, &A, &P));
@@ -198,12 +208,16 @@ PetscErrorCode fall_back_after_failed_factorisation(KSP ksp, PetscBool* switched
   PetscCall(PetscObjectReference((PetscObject)P));
   PetscCall(PCReset(pc));
   PetscCall(PCSetType(pc, PCLU));
-  PetscCall(PCFactorSetMatSolverType(pc, MATSOLVERUMFPACK));
-  PetscCall(PCFactorSetMatOrderingType(pc, MATORDERINGEXTERNAL));
+  if (native) {
+    PetscCall(PCFactorSetMatSolverType(pc, MATSOLVERUMFPACK));
+    PetscCall(PCFactorSetMatOrderingType(pc, MATORDERINGEXTERNAL));
+  } else {
+    PetscCall(PCFactorSetMatSolverType(pc, package.c_str()));
+  }
   PetscCall(KSPSetOperators(ksp, A, P));
   PetscCall(MatDestroy(&A));
   PetscCall(MatDestroy(&P));
-  *switched = PETSC_TRUE;
+  *reset = PETSC_TRUE;
   PetscFunctionReturn(0);
 }
 

@@ -28,10 +28,11 @@ PetscErrorCode register_saddle_point_ordering();
 /// faster (docs/performance.md). One process only.
 PetscErrorCode use_native_lu(KSP ksp);
 
-/// If ksp uses PETSc's own LU and its last factorisation failed (a zero pivot: dependent
-/// constraint rows, or a singular tangent), switches it to UMFPACK, which pivots, for the rest of
-/// its life and sets *switched; the caller then assembles a fresh matrix. Cheap: call it before
-/// every Jacobian.
-PetscErrorCode fall_back_after_failed_factorisation(KSP ksp, PetscBool* switched);
+/// If ksp's last factorisation failed (a zero pivot: dependent constraint rows, a singular
+/// tangent), makes the next one start afresh and sets *reset: PETSc's own LU is switched to
+/// UMFPACK, which pivots, for the rest of the solver's life; any other package (MUMPS, which
+/// would otherwise skip the next factorisation and fail in the solve) is set up anew, analysis
+/// included. The caller then assembles a fresh matrix. Cheap: call it before every Jacobian.
+PetscErrorCode recover_from_failed_factorisation(KSP ksp, PetscBool* reset);
 
 }  // namespace latticedyn

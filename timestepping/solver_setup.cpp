@@ -17,6 +17,14 @@ PetscErrorCode set_direct_solver_defaults(KSP ksp) {
   PetscMPIInt size;
   PetscCallMPI(MPI_Comm_size(PetscObjectComm((PetscObject)ksp), &size));
   PetscCall(PCFactorSetMatSolverType(pc, size > 1 ? MATSOLVERMUMPS : MATSOLVERUMFPACK));
+  // MUMPS on a saddle-point matrix: the multipliers' rows and the frames held only by constraints
+  // (rigid end sections) have no diagonal, their pivots are delayed, and the factors outgrow the
+  // space MUMPS estimated (INFOG(1) = -9 on the full main boom and the full crane on 2 ranks).
+  // 100 % more working space than the estimate (ICNTL(14), MUMPS's default 20-35 %) covers every
+  // model here; a factorisation that runs out anyway doubles it (recover_from_failed_factorisation).
+  PetscBool set;
+  PetscCall(PetscOptionsHasName(nullptr, nullptr, "-mat_mumps_icntl_14", &set));
+  if (!set) PetscCall(PetscOptionsSetValue(nullptr, "-mat_mumps_icntl_14", "100"));
   PetscFunctionReturn(0);
 }
 

@@ -3,6 +3,8 @@
 // deflections.
 #include "timestepping/static_solver.hpp"
 
+#include "timestepping/native_lu.hpp"
+
 #include <algorithm>
 #include <cstdio>
 #include <limits>
@@ -86,6 +88,10 @@ PetscErrorCode StaticSolver::form_jacobian(SNES snes, Vec U, Mat J, Mat, void* c
     if (mu * self->sa_.characteristic_mass() <= std::numeric_limits<double>::epsilon() * self->sa_.characteristic_stiffness())
       mu = 0.0;
   }
+  KSP ksp;
+  PetscBool reset;
+  PetscCall(SNESGetKSP(snes, &ksp));
+  PetscCall(recover_from_failed_factorisation(ksp, &reset));  // a failed one must not poison the next
   PetscCall(self->sa_.jacobian(EvaluationPoint{U, nullptr, nullptr, nullptr, t, t}, self->evaluation(), 1.0, 0.0, mu, J));
   PetscFunctionReturn(0);
 }

@@ -162,7 +162,7 @@ TEST(NativeLU, FailedFactorisationFallsBackToUmfpack) {
   PCGetFailedReason(pc, &reason);
   EXPECT_NE(reason, PC_NOERROR);
   PetscBool switched;
-  ASSERT_EQ(fall_back_after_failed_factorisation(ksp, &switched), 0);
+  ASSERT_EQ(recover_from_failed_factorisation(ksp, &switched), 0);
   EXPECT_TRUE(switched);
   KSPSolve(ksp, b, x);
   PCGetFailedReason(pc, &reason);
@@ -173,7 +173,7 @@ TEST(NativeLU, FailedFactorisationFallsBackToUmfpack) {
   EXPECT_NEAR(a[1], 2.0, 1e-14);
   VecRestoreArrayRead(x, &a);
   // A second call finds nothing to do.
-  ASSERT_EQ(fall_back_after_failed_factorisation(ksp, &switched), 0);
+  ASSERT_EQ(recover_from_failed_factorisation(ksp, &switched), 0);
   EXPECT_FALSE(switched);
   VecDestroy(&b);
   VecDestroy(&x);
