@@ -6,7 +6,6 @@
 #include <omp.h>
 
 #include <algorithm>
-
 #include <map>
 #include <stdexcept>
 
@@ -124,15 +123,31 @@ SuperTrussElement::SuperTrussElement(const TrussSectionSpec& spec, const TrussGe
 
 namespace {
 
-// A member end's loads from lane l of packed vectors.
+// Lane l of packed vectors.
 Vec3 lane(const Vec3T<Pack4>& v, int l) { return Vec3(v(0)[l], v(1)[l], v(2)[l]); }
 
 }  // namespace
 
+void SuperTrussElement::gather(const std::vector<Vec3>& p, const std::vector<Mat3>& R, const MemberBatch& bt,
+                               Vec3T<Pack4>& r1, Vec3T<Pack4>& d, Mat3T<Pack4>& R1, Mat3T<Pack4>& R2) {
+  Mat3T<Pack4> Ra, Rb;
+  for (int l = 0; l < Pack4::kLanes; ++l) {
+    const Vec3 &pa = p[bt.a[l]], &pb = p[bt.b[l]];
+    const Mat3 &Ral = R[bt.a[l]], &Rbl = R[bt.b[l]];
+    for (int i = 0; i < 3; ++i) {
+      r1(i)[l] = pa(i);
+      d(i)[l] = pb(i) - pa(i);
+      for (int j = 0; j < 3; ++j) Ra(i, j)[l] = Ral(i, j), Rb(i, j)[l] = Rbl(i, j);
+    }
+  }
+  R1 = Ra * bt.offset_a;
+  R2 = Rb * bt.offset_b;
+}
+
 void SuperTrussElement::add_members(const Evaluation& ev, int first, int last, MemberLoads& out, bool tangent) const {
   constexpr int kL = Pack4::kLanes;
-  Vec3T<Pack4> d;
-  Mat3T<Pack4> Ra, Rb;
+  Vec3T<Pack4> r1, d;
+  Mat3T<Pack4> R1, R2;
   CorotationalForce<Pack4> force;
   Eigen::Matrix<Pack4, 9, 9> K9;
   Eigen::Matrix<Pack4, 9, 12> P;
@@ -140,15 +155,7 @@ void SuperTrussElement::add_members(const Evaluation& ev, int first, int last, M
   Eigen::Matrix<Pack4, 12, 12> K = Eigen::Matrix<Pack4, 12, 12>::Zero();  // the lanes summed at the end
   for (int k = first; k < last; ++k) {
     const MemberBatch& bt = batches_[k];
-    for (int l = 0; l < kL; ++l) {
-      const Vec3 dl = ev.p[bt.b[l]] - ev.p[bt.a[l]];
-      const Mat3 &Ral = ev.R[bt.a[l]], &Rbl = ev.R[bt.b[l]];
-      for (int i = 0; i < 3; ++i) {
-        d(i)[l] = dl(i);
-        for (int j = 0; j < 3; ++j) Ra(i, j)[l] = Ral(i, j), Rb(i, j)[l] = Rbl(i, j);
-      }
-    }
-    const Mat3T<Pack4> R1 = Ra * bt.offset_a, R2 = Rb * bt.offset_b;
+    gather(ev.p, ev.R, bt, r1, d, R1, R2);
     corotational_internal_force(bt.stiffness, d, R1, R2, force);
     const Vec3T<Pack4> Ma = bt.offset_a * force.f.segment<3>(3), Mb = bt.offset_b * force.f.segment<3>(6);
     for (int l = 0; l < bt.count; ++l) {
@@ -425,20 +432,11 @@ void SuperTrussElement::output(std::span<const SlotState<double>> s, const Eleme
   out.polylines.resize(nm);
   out.polyline_axial_forces.resize(nm);
   Vec3T<Pack4> r1, d;
-  Mat3T<Pack4> Ra, Rb;
+  Mat3T<Pack4> R1, R2;
   for (std::size_t k = 0; k < batches_.size(); ++k) {
     const MemberBatch& bt = batches_[k];
-    for (int l = 0; l < Pack4::kLanes; ++l) {
-      const Vec3 &pa = p[bt.a[l]], &pb = p[bt.b[l]];
-      const Mat3 &Ral = R[bt.a[l]], &Rbl = R[bt.b[l]];
-      for (int i = 0; i < 3; ++i) {
-        r1(i)[l] = pa(i);
-        d(i)[l] = pb(i) - pa(i);
-        for (int j = 0; j < 3; ++j) Ra(i, j)[l] = Ral(i, j), Rb(i, j)[l] = Rbl(i, j);
-      }
-    }
-    const CorotationalDeformation<Pack4> def =
-        corotational_deformation<Pack4>(bt.stiffness, d, Mat3T<Pack4>(Ra * bt.offset_a), Mat3T<Pack4>(Rb * bt.offset_b));
+    gather(p, R, bt, r1, d, R1, R2);
+    const CorotationalDeformation<Pack4> def = corotational_deformation<Pack4>(bt.stiffness, d, R1, R2);
     const Pack4 strain = corotational_strain_energy<Pack4>(bt.stiffness, def), axial = def.u * bt.stiffness.ea;
     Vec3T<Pack4> axis[kPoints];
     for (int i = 0; i < kPoints; ++i) axis[i] = corotational_axis_point(def, r1, d, i / (kPoints - 1.0));

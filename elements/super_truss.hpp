@@ -114,6 +114,9 @@ class SuperTrussElement final : public Element {
     Mat3T<Pack4> offset_a, offset_b;
   };
   std::vector<MemberBatch> batches_;
+  /// A batch's first ends r1, chords d = r_b - r_a and member end frames from node poses.
+  static void gather(const std::vector<Vec3>& p, const std::vector<Mat3>& R, const MemberBatch& bt, Vec3T<Pack4>& r1,
+                     Vec3T<Pack4>& d, Mat3T<Pack4>& R1, Mat3T<Pack4>& R2);
   LumpedMass lumped_;
   // Translational mass as 8 point pairs (unit point k, row k of the moment matrix) and the weight
   // as one point; rotary inertia of each end section's nodes, in the end frame.

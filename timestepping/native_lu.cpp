@@ -45,7 +45,8 @@ PetscErrorCode place_delayed_rows(const std::vector<char>& multiplier, const std
   std::vector<char> placed(n);
   for (PetscInt i = 0; i < n; ++i) placed[i] = !multiplier[i] && !frame[i];
   std::vector<PetscInt> taken_by(n, -1);  // partner -> the delayed row it gives its pivot to
-  std::vector<char> visited(n);
+  std::vector<long> visited(n, -1);       // the search that last visited a partner (no clearing)
+  long search = 0;
   // Does row i find a partner, possibly taking one from another row of this pass (which must then
   // find another)? Partners taken in earlier passes stay.
   std::vector<char> in_pass(n, 0);
@@ -54,8 +55,8 @@ PetscErrorCode place_delayed_rows(const std::vector<char>& multiplier, const std
   };
   std::function<bool(PetscInt)> augment = [&](PetscInt i) {
     for (PetscInt j : coupled[i]) {
-      if (!eligible(i, j) || visited[j]) continue;
-      visited[j] = 1;
+      if (!eligible(i, j) || visited[j] == search) continue;
+      visited[j] = search;
       if (taken_by[j] < 0 || (in_pass[taken_by[j]] && augment(taken_by[j]))) {
         taken_by[j] = i;
         return true;
@@ -75,7 +76,7 @@ PetscErrorCode place_delayed_rows(const std::vector<char>& multiplier, const std
       }
     std::vector<PetscInt> matched;
     for (PetscInt i : candidates) {
-      std::fill(visited.begin(), visited.end(), 0);
+      ++search;
       if (augment(i)) matched.push_back(i);
     }
     // A row that lost its partner to a later one of the pass was re-matched by the augmenting path,
