@@ -6,12 +6,12 @@
            (the accuracy a reuse setting keeps; probe bay<N>.e2n1, every step).
   scaling: fresh Jacobians over sizes and rank counts: time per step and per Newton iteration,
            setup time (process wall minus the dynamics' wall), peak memory per unknown; a PNG of
-           both against the number of unknowns.
+           both against the number of unknowns. --mumps adds MUMPS on several ranks.
 
   /usr/bin/python3 benchmarks/lattice_bays_study.py reuse --bays 10 640 --reuse 1 5 10 20 --steps 100 \\
       --out docs/perf/lattice_reuse
   /usr/bin/python3 benchmarks/lattice_bays_study.py scaling --bays 40 160 640 2560 10240 40960 \\
-      --ranks 1 2 --steps 3 --out docs/perf/lattice_scaling
+      --ranks 1 2 --steps 3 --mumps --out docs/perf/lattice_scaling
 
 Writes <out>.csv and <out>.md (and <out>.png for scaling). Runs go to --work (default
 build/lattice_study/), one folder per run; a run whose log exists is not repeated unless --fresh.
@@ -33,8 +33,8 @@ MEMORY = re.compile(r"peak memory: (\d+) MiB(?: on the largest of \d+ ranks, (\d
 UNKNOWNS = re.compile(r"(\d+) unknowns")
 
 
-def run(bays, steps, reuse, ranks, interval, work, binary, fresh):
-    name = f"bays{bays}_r{reuse}_n{ranks}_s{steps}"
+def run(bays, steps, reuse, ranks, interval, work, binary, fresh, extra=(), tag=""):
+    name = f"bays{bays}_r{reuse}_n{ranks}_s{steps}" + (f"_{tag}" if tag else "")
     folder = os.path.join(work, name)
     os.makedirs(folder, exist_ok=True)
     model = os.path.join(folder, name + ".yaml")
@@ -43,7 +43,7 @@ def run(bays, steps, reuse, ranks, interval, work, binary, fresh):
         subprocess.run([sys.executable, os.path.join(ROOT, "benchmarks", "lattice_bays.py"), str(bays), "--steps",
                         str(steps), "--reuse", str(reuse), "--interval", str(interval), "--out", model], check=True)
         env = dict(os.environ, OMP_NUM_THREADS="1", OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
-        cmd = [binary, "run", model, "--output", folder, "-assembly_threads", "1"]
+        cmd = [binary, "run", model, "--output", folder, "-assembly_threads", "1"] + list(extra)
         if ranks > 1:
             cmd = ["mpiexec", "-n", str(ranks), "--oversubscribe", "--bind-to", "none"] + cmd
         start = time.monotonic()
@@ -63,7 +63,8 @@ def run(bays, steps, reuse, ranks, interval, work, binary, fresh):
     total = float(mem.group(2)) if mem and mem.group(2) else peak
     process = float(re.search(r"process wall ([0-9.]+) s", text).group(1))
     unknowns = bays * 24
-    return dict(bays=bays, unknowns=unknowns, ranks=ranks, reuse=reuse, steps=st, newton=newton, jacobians=jac,
+    solver = re.search(r"linear solver: ([^,\n]*)", text)
+    return dict(bays=bays, unknowns=unknowns, ranks=ranks, solver=solver.group(1) if solver else "?", reuse=reuse, steps=st, newton=newton, jacobians=jac,
                 wall_s=wall, ms_per_step=1e3 * wall / st, ms_per_iteration=1e3 * wall / newton,
                 setup_s=process - wall, peak_mib_largest=peak, peak_mib_total=total,
                 bytes_per_unknown=total * 2**20 / unknowns, probes=os.path.join(folder, name + "_probes.csv"))
@@ -101,27 +102,33 @@ def reuse_study(a):
 
 def scaling_study(a):
     rows = []
+    # The default solvers on every rank count, and on several ranks also MUMPS (-pc_type lu), the
+    # distributed direct solver the additive Schwarz default replaced for models without constraints.
+    series = [(ranks, (), "") for ranks in a.ranks]
+    if a.mumps:
+        series += [(ranks, ("-pc_type", "lu"), "mumps") for ranks in a.ranks if ranks > 1]
     for bays in a.bays:
-        for ranks in a.ranks:
-            r = run(bays, a.steps, 1, ranks, 1000.0, a.work, a.binary, a.fresh)
+        for ranks, extra, tag in series:
+            r = run(bays, a.steps, 1, ranks, 1000.0, a.work, a.binary, a.fresh, extra, tag)
             rows.append(r)
-            print(f"{bays} bays ({r['unknowns']} unknowns), {ranks} rank(s): {r['ms_per_step']:.1f} ms/step, "
+            print(f"{bays} bays ({r['unknowns']} unknowns), {ranks} rank(s), {r['solver']}: {r['ms_per_step']:.1f} ms/step, "
                   f"{r['ms_per_iteration']:.1f} ms/iteration, setup {r['setup_s']:.2f} s, "
                   f"{r['bytes_per_unknown']:.0f} B/unknown")
-    keys = ["bays", "unknowns", "ranks", "steps", "newton", "wall_s", "ms_per_step", "ms_per_iteration", "setup_s",
+    keys = ["bays", "unknowns", "ranks", "solver", "steps", "newton", "wall_s", "ms_per_step", "ms_per_iteration", "setup_s",
             "peak_mib_largest", "peak_mib_total", "bytes_per_unknown"]
     write_table(a.out, rows, keys)
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     fig, ax = plt.subplots(1, 3, figsize=(15, 4.5))
-    for ranks in sorted(set(r["ranks"] for r in rows)):
-        sel = sorted((r for r in rows if r["ranks"] == ranks), key=lambda r: r["unknowns"])
+    for ranks, solver in sorted(set((r["ranks"], r["solver"]) for r in rows)):
+        sel = sorted((r for r in rows if r["ranks"] == ranks and r["solver"] == solver), key=lambda r: r["unknowns"])
         n = [r["unknowns"] for r in sel]
-        ax[0].loglog(n, [r["ms_per_step"] / 1e3 for r in sel], "o-", label=f"per step, {ranks} rank(s)")
-        ax[0].loglog(n, [r["ms_per_iteration"] / 1e3 for r in sel], "s--", label=f"per Newton iteration, {ranks} rank(s)")
-        ax[1].loglog(n, [r["setup_s"] for r in sel], "o-", label=f"{ranks} rank(s)")
-        ax[2].semilogx(n, [r["bytes_per_unknown"] / 1024 for r in sel], "o-", label=f"{ranks} rank(s), all ranks")
+        what = f"{ranks} rank(s), {solver}"
+        ax[0].loglog(n, [r["ms_per_step"] / 1e3 for r in sel], "o-", label=f"per step, {what}")
+        ax[0].loglog(n, [r["ms_per_iteration"] / 1e3 for r in sel], "s--", label=f"per Newton iteration, {what}")
+        ax[1].loglog(n, [r["setup_s"] for r in sel], "o-", label=what)
+        ax[2].semilogx(n, [r["bytes_per_unknown"] / 1024 for r in sel], "o-", label=f"{what}, all ranks")
     n = np.array(sorted(set(r["unknowns"] for r in rows)), dtype=float)
     base = min(rows, key=lambda r: r["unknowns"])
     ax[0].loglog(n, base["ms_per_step"] / 1e3 * n / n[0], "k:", label="linear")
@@ -130,7 +137,7 @@ def scaling_study(a):
     ax[2].set(xlabel="unknowns", ylabel="peak memory (KiB per unknown)", title="peak resident memory")
     for x in ax:
         x.grid(True, which="both", alpha=0.3)
-        x.legend(fontsize=8)
+        x.legend(fontsize=7, loc="upper left")
     fig.suptitle("lattice-bays, one core per rank")
     fig.tight_layout()
     fig.savefig(a.out + ".png", dpi=110)
@@ -161,6 +168,7 @@ def main():
     ap.add_argument("--work", default=os.path.join(ROOT, "build", "lattice_study"))
     ap.add_argument("--binary", default=os.path.join(ROOT, "build", "drivers", "latticedyn"))
     ap.add_argument("--fresh", action="store_true", help="rerun even where a log exists")
+    ap.add_argument("--mumps", action="store_true", help="scaling study: also MUMPS (-pc_type lu) on several ranks")
     a = ap.parse_args()
     if a.study == "reuse" and a.reuse[0] != 1:
         ap.error("the reuse study's first setting is the reference: 1")

@@ -178,6 +178,7 @@ int command_solve(Simulation& sim, const CommandOptions& opt, MPI_Comm comm, boo
                   describe_violation(sim.model, r.max_violation, r.violation_constraint).c_str());
     if (!r.completed) error_root(comm, r.message);
     text += buf;
+    if (!r.linear_solver.empty()) text += "linear solver: " + r.linear_solver + "\n";
   }
   text += peak_memory(comm);
   print_root(comm, text + where_results(writer.get()));

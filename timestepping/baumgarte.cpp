@@ -109,6 +109,7 @@ PetscErrorCode BaumgarteIntegrator::accelerations(PetscReal t, Vec U, Vec V) {
   PetscCall(sa_.jacobian(at, how, 0.0, 0.0, 1.0, S_));  // [M G^T; G 0]
   PetscCall(KSPSetOperators(ksp_, S_, S_));
   PetscCall(KSPSolve(ksp_, b_, y_));
+  ++solves_;
   KSPConvergedReason reason;
   PetscCall(KSPGetConvergedReason(ksp_, &reason));
   PetscCheck(reason >= 0, sa_.comm(), PETSC_ERR_NOT_CONVERGED,
@@ -182,6 +183,7 @@ PetscErrorCode BaumgarteIntegrator::run(Vec U, Vec V, StepObserver* observer, Dy
   *report = DynamicReport{};
   observer_ = observer;
   report_ = report;
+  solves_ = 0;
   const auto start = std::chrono::steady_clock::now();
   PetscCall(VecCopy(U, U_));
   PetscCall(VecCopy(V, V_));
@@ -207,6 +209,9 @@ PetscErrorCode BaumgarteIntegrator::run(Vec U, Vec V, StepObserver* observer, Dy
     std::snprintf(buf, sizeof buf, "dynamics stopped at t = %.6g s (step %ld): TS %s", t, report->steps,
                   TSConvergedReasons[reason]);
   report->message = buf;
+  PetscInt krylov = 0;
+  PetscCall(KSPGetTotalIterations(ksp_, &krylov));
+  PetscCall(describe_linear_solver(ksp_, krylov, solves_, &report->linear_solver));
   PetscFunctionReturn(0);
 }
 

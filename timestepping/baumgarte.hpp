@@ -36,6 +36,7 @@ class BaumgarteIntegrator {
   DynamicSettings settings_;
   TS ts_ = nullptr;
   KSP ksp_ = nullptr;
+  long solves_ = 0;  // linear solves in the run (one per right-hand side)
   Mat S_ = nullptr;
   Vec X_ = nullptr, U_ = nullptr, V_ = nullptr, A_ = nullptr, b_ = nullptr, y_ = nullptr, Ulam0_ = nullptr;
   std::vector<PetscInt> multipliers_;  // owned multiplier rows (local offsets)

@@ -42,6 +42,7 @@ struct DynamicReport {
   double max_violation = 0.0;     ///< over all accepted steps
   int violation_constraint = -1;
   std::string message;            ///< what failed and where, or a summary
+  std::string linear_solver;      ///< what the linear systems were solved with (describe_linear_solver)
 };
 
 }  // namespace latticedyn

@@ -7,6 +7,7 @@
 #include "timestepping/generalized_alpha.hpp"
 
 #include "timestepping/native_lu.hpp"
+#include "timestepping/subdomain_lu.hpp"
 
 #include <chrono>
 #include <cstdio>
@@ -36,6 +37,8 @@ GeneralizedAlphaIntegrator::GeneralizedAlphaIntegrator(SystemAssembler& sa, Dyna
   PetscBool solver_chosen = PETSC_FALSE, pc_chosen = PETSC_FALSE;
   PetscCallAbort(comm, PetscOptionsHasName(nullptr, nullptr, "-pc_factor_mat_solver_type", &solver_chosen));
   PetscCallAbort(comm, PetscOptionsHasName(nullptr, nullptr, "-pc_type", &pc_chosen));
+  PetscBool ksp_chosen = PETSC_FALSE;
+  PetscCallAbort(comm, PetscOptionsHasName(nullptr, nullptr, "-ksp_type", &ksp_chosen));
   if (ranks == 1 && n <= dense_below && !solver_chosen && !pc_chosen)
     PetscCallAbort(comm, MatCreateSeqDense(PETSC_COMM_SELF, n, n, nullptr, &P_));
   PetscCallAbort(comm, TSSetI2Jacobian(ts_, J_, P_ ? P_ : J_, i2jacobian, this));
@@ -123,6 +126,11 @@ GeneralizedAlphaIntegrator::GeneralizedAlphaIntegrator(SystemAssembler& sa, Dyna
     // frontal machinery costs more than it saves on small fronts (640-bay lattice: 14 against
     // 42 ms; the full crane: docs/performance.md). A failed factorisation switches to UMFPACK.
     PetscCallAbort(comm, use_native_lu(ksp));
+  } else if (ranks > 1 && !solver_chosen && !pc_chosen && !ksp_chosen && sa_.model().constraints.empty()) {
+    // Without multipliers every subdomain of the iteration matrix is nonsingular and factors
+    // without pivoting: GMRES on additive Schwarz with PETSc's LU per rank takes half of MUMPS's
+    // time and beats one rank (lattice-bays, docs/performance.md). -pc_type lu: MUMPS again.
+    PetscCallAbort(comm, use_subdomain_lu(ksp));
   }
   if (settings_.jacobian_reuse > 1) PetscCallAbort(comm, SNESMonitorSet(snes, watch_contraction, this, nullptr));
   PetscCallAbort(comm, PetscOptionsGetBool(nullptr, nullptr, "-dyn_predictor", &predictor_, nullptr));
@@ -341,6 +349,10 @@ PetscErrorCode GeneralizedAlphaIntegrator::run(Vec U, Vec V, StepObserver* obser
                   describe_violation(sa_.model(), violation, where).c_str());
   }
   report->message = buf;
+  PetscInt krylov = 0, solves = 0;
+  PetscCall(TSGetKSPIterations(ts_, &krylov));
+  PetscCall(TSGetSNESIterations(ts_, &solves));
+  PetscCall(describe_linear_solver(ksp_, krylov, solves, &report->linear_solver));
   PetscFunctionReturn(0);
 }
 

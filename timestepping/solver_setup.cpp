@@ -2,7 +2,9 @@
 #include "timestepping/solver_setup.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cstdio>
+#include <string_view>
 
 namespace latticedyn {
 
@@ -30,6 +32,39 @@ PetscErrorCode set_direct_solver_defaults(KSP ksp) {
 
 namespace {
 
+// "PETSc LU", "MUMPS LU", "dense LU (LAPACK)", or the preconditioner's name.
+PetscErrorCode describe_preconditioner(PC pc, std::string* text) {
+  PCType type;
+  PetscBool factor;
+  PetscFunctionBeginUser;
+  PetscCall(PCGetType(pc, &type));
+  PetscCall(PetscObjectTypeCompareAny((PetscObject)pc, &factor, PCLU, PCCHOLESKY, ""));
+  if (!factor) {
+    *text = type ? type : "none";
+    PetscFunctionReturn(0);
+  }
+  const std::string kind = std::string_view(type) == PCLU ? "LU" : "Cholesky";
+  Mat P = nullptr;
+  PetscCall(PCGetOperators(pc, nullptr, &P));
+  PetscBool dense = PETSC_FALSE;
+  if (P) PetscCall(PetscObjectTypeCompareAny((PetscObject)P, &dense, MATSEQDENSE, MATMPIDENSE, ""));
+  if (dense) {
+    *text = "dense " + kind + " (LAPACK)";
+    PetscFunctionReturn(0);
+  }
+  MatSolverType package = nullptr;
+  PetscCall(PCFactorGetMatSolverType(pc, &package));
+  const std::string name = package ? package : MATSOLVERPETSC;
+  if (name == MATSOLVERPETSC) {
+    *text = "PETSc " + kind;
+  } else {
+    std::string upper = name;
+    for (char& c : upper) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    *text = upper + " " + kind;
+  }
+  PetscFunctionReturn(0);
+}
+
 struct RoundoffTest {
   PetscReal reference = 0.0, floor = 0.0, f0 = 0.0, previous = 0.0;
 };
@@ -56,6 +91,46 @@ PetscErrorCode destroy_roundoff_test(void* ctx) {
 }
 
 }  // namespace
+
+PetscErrorCode describe_linear_solver(KSP ksp, long krylov_iterations, long solves, std::string* text) {
+  PC pc;
+  KSPType ktype;
+  PetscBool preonly, asm_pc, bjacobi;
+  PetscFunctionBeginUser;
+  PetscCall(KSPGetType(ksp, &ktype));
+  PetscCall(KSPGetPC(ksp, &pc));
+  PetscCall(PetscObjectTypeCompare((PetscObject)ksp, KSPPREONLY, &preonly));
+  PetscCall(PetscObjectTypeCompare((PetscObject)pc, PCASM, &asm_pc));
+  PetscCall(PetscObjectTypeCompare((PetscObject)pc, PCBJACOBI, &bjacobi));
+  std::string pc_text;
+  if (asm_pc || bjacobi) {
+    KSP* sub = nullptr;
+    PetscInt nsub = 0;
+    std::string local = "?";
+    if (solves > 0) {  // the subdomain solvers exist once a solve has set the preconditioner up
+      if (asm_pc) PetscCall(PCASMGetSubKSP(pc, &nsub, nullptr, &sub));
+      else PetscCall(PCBJacobiGetSubKSP(pc, &nsub, nullptr, &sub));
+    }
+    if (nsub > 0) {
+      PC subpc;
+      PetscCall(KSPGetPC(sub[0], &subpc));
+      PetscCall(describe_preconditioner(subpc, &local));
+    }
+    pc_text = asm_pc ? "additive Schwarz, " + local + " per subdomain" : "block Jacobi, " + local + " per block";
+  } else {
+    PetscCall(describe_preconditioner(pc, &pc_text));
+  }
+  if (preonly) {
+    *text = pc_text;
+  } else {
+    std::string upper = ktype;
+    for (char& c : upper) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    char buf[64];
+    std::snprintf(buf, sizeof buf, ", %.1f iterations per solve", solves > 0 ? double(krylov_iterations) / solves : 0.0);
+    *text = upper + " on " + pc_text + buf;
+  }
+  PetscFunctionReturn(0);
+}
 
 PetscErrorCode set_roundoff_convergence_test(SNES snes, double reference_force, double floor) {
   PetscFunctionBeginUser;

@@ -17,6 +17,12 @@ namespace latticedyn {
 /// callers apply the options database afterwards.
 PetscErrorCode set_direct_solver_defaults(KSP ksp);
 
+/// What ksp solved with, for the run's summary: e.g. "PETSc LU", "MUMPS LU",
+/// "GMRES on additive Schwarz (overlap 1), PETSc LU per subdomain, 5.1 iterations per solve". Call
+/// after the solves (the subdomain solvers exist once the preconditioner is set up);
+/// krylov_iterations and solves are totals over the run.
+PetscErrorCode describe_linear_solver(KSP ksp, long krylov_iterations, long solves, std::string* text);
+
 /// SNES convergence test: PETSc's default (atol, rtol, stol) plus "converged to round-off": once
 /// the residual has fallen below 1e-6 of max(its initial value, reference_force) and a Newton
 /// step no longer halves it, it has reached the floor set by the stiffest terms (e.g. E A of a

@@ -80,6 +80,8 @@ TEST_F(Cli, RunWritesReadableResults) {
   const Outcome o = run("run pendulum.yaml --output out");
   ASSERT_EQ(o.code, 0) << o.out << o.err;
   EXPECT_NE(o.out.find("dynamics completed"), std::string::npos) << o.out;
+  // 22 unknowns: factored dense, and the summary says so.
+  EXPECT_NE(o.out.find("linear solver: dense LU (LAPACK)"), std::string::npos) << o.out;
   for (const char* f : {"out/pendulum.h5", "out/pendulum.xdmf", "out/pendulum_probes.csv"})
     EXPECT_TRUE(fs::exists(dir_ / f)) << f;
   // 0, 0.05, ..., 0.2: five outputs, plus the CSV header.
