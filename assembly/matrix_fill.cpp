@@ -18,8 +18,12 @@ PetscErrorCode MatrixFill::open(Mat J) {
   PetscCall(MatGetType(J, &type));
   a_ = b_ = nullptr;
   garray_ = nullptr;
+  block_size_ = 1;
   if (std::strcmp(type, MATSEQAIJ) == 0) {
     a_ = J;
+  } else if (std::strcmp(type, MATSEQBAIJ) == 0) {
+    a_ = J;
+    PetscCall(MatGetBlockSize(J, &block_size_));
   } else if (std::strcmp(type, MATMPIAIJ) == 0) {
     PetscCall(MatMPIAIJGetSeqAIJ(J, &a_, &b_, &garray_));
   } else {
@@ -29,8 +33,9 @@ PetscErrorCode MatrixFill::open(Mat J) {
   PetscCall(MatGetOwnershipRangeColumn(J, &cstart_, &cend_));
   PetscInt n;
   PetscBool done;
-  PetscCall(MatGetRowIJ(a_, 0, PETSC_FALSE, PETSC_FALSE, &n, &ia_, &ja_, &done));
-  diagonal_nnz_ = ia_[n];
+  // BAIJ: the block rows' block columns.
+  PetscCall(MatGetRowIJ(a_, 0, PETSC_FALSE, block_size_ > 1 ? PETSC_TRUE : PETSC_FALSE, &n, &ia_, &ja_, &done));
+  diagonal_nnz_ = ia_[n] * block_size_ * block_size_;
   if (b_) PetscCall(MatGetRowIJ(b_, 0, PETSC_FALSE, PETSC_FALSE, &n, &ib_, &jb_, &done));
   matrix = J;
   PetscCall(PetscObjectGetId(reinterpret_cast<PetscObject>(J), &id_));
@@ -59,6 +64,17 @@ void MatrixFill::add_position(PetscInt row, PetscInt col) {
     throw std::logic_error("MatrixFill: the matrix has no entry (" + std::to_string(row) + ", " + std::to_string(col) +
                            ") of the preallocated pattern");
   };
+  if (block_size_ > 1) {
+    // Block (lr / bs, col / bs), stored column by column: its entry (r, c) at bs^2 k + bs c + r.
+    const PetscInt bs = block_size_, br = lr / bs, bc = (col - cstart_) / bs;
+    if ((col - cstart_) % bs != 0) missing();
+    const PetscInt* begin = ja_ + ia_[br];
+    const PetscInt* end = ja_ + ia_[br + 1];
+    const PetscInt* it = std::lower_bound(begin, end, bc);
+    if (it == end || *it != bc) missing();
+    offsets_.push_back(static_cast<PetscInt>(it - ja_) * bs * bs + lr % bs);
+    return;
+  }
   if (col >= cstart_ && col < cend_) {
     const PetscInt* begin = ja_ + ia_[lr];
     const PetscInt* end = ja_ + ia_[lr + 1];
@@ -81,7 +97,7 @@ PetscErrorCode MatrixFill::close() {
   PetscBool done;
   PetscFunctionBeginUser;
   if (!matrix) PetscFunctionReturn(0);
-  PetscCall(MatRestoreRowIJ(a_, 0, PETSC_FALSE, PETSC_FALSE, &n, &ia_, &ja_, &done));
+  PetscCall(MatRestoreRowIJ(a_, 0, PETSC_FALSE, block_size_ > 1 ? PETSC_TRUE : PETSC_FALSE, &n, &ia_, &ja_, &done));
   if (b_) PetscCall(MatRestoreRowIJ(b_, 0, PETSC_FALSE, PETSC_FALSE, &n, &ib_, &jb_, &done));
   ready = true;
   PetscFunctionReturn(0);
@@ -89,6 +105,10 @@ PetscErrorCode MatrixFill::close() {
 
 PetscErrorCode MatrixFill::begin(Mat) {
   PetscFunctionBeginUser;
+  if (block_size_ > 1) {
+    PetscCall(MatSeqBAIJGetArray(a_, &diagonal_));
+    PetscFunctionReturn(0);
+  }
   PetscCall(MatSeqAIJGetArray(a_, &diagonal_));
   if (b_) PetscCall(MatSeqAIJGetArray(b_, &off_diagonal_));
   PetscFunctionReturn(0);
@@ -96,6 +116,10 @@ PetscErrorCode MatrixFill::begin(Mat) {
 
 PetscErrorCode MatrixFill::end(Mat) {
   PetscFunctionBeginUser;
+  if (block_size_ > 1) {
+    PetscCall(MatSeqBAIJRestoreArray(a_, &diagonal_));
+    PetscFunctionReturn(0);
+  }
   PetscCall(MatSeqAIJRestoreArray(a_, &diagonal_));
   if (b_) PetscCall(MatSeqAIJRestoreArray(b_, &off_diagonal_));
   PetscFunctionReturn(0);

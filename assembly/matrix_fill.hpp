@@ -9,11 +9,13 @@
 
 namespace latticedyn {
 
-/// A plan of positions in the value arrays of a (Seq|MPI)AIJ matrix: per element, one position
-/// per (row, block of columns) it adds to, in the element's own order. A position is an offset
-/// into the diagonal part's values, or past them into the off-diagonal part's (MPIAIJ); -1 where
-/// the row belongs to another rank or there is no column block (those go through MatSetValues).
-/// Other matrix types (e.g. by -mat_type) get no plan: `ready` stays false.
+/// A plan of positions in the value arrays of a (Seq|MPI)AIJ or SeqBAIJ matrix: per element, one
+/// position per (row, block of columns) it adds to, in the element's own order. A position is an
+/// offset into the diagonal part's values, or past them into the off-diagonal part's (MPIAIJ); -1
+/// where the row belongs to another rank or there is no column block (those go through
+/// MatSetValues). A row's entries of one column block lie column_stride() apart: 1 in AIJ's
+/// compressed rows, the block size in BAIJ's column-major blocks. Other matrix types (e.g. by
+/// -mat_type) get no plan: `ready` stays false.
 class MatrixFill {
  public:
   bool ready = false;
@@ -33,6 +35,7 @@ class MatrixFill {
   const PetscInt* element_offsets(int element) const { return offsets_.data() + first_[element]; }
   /// Between begin() and end(): the values at a planned position.
   double* values(PetscInt at) { return at < diagonal_nnz_ ? diagonal_ + at : off_diagonal_ + (at - diagonal_nnz_); }
+  PetscInt column_stride() const { return block_size_; }
   PetscErrorCode begin(Mat J);
   PetscErrorCode end(Mat J);
 
@@ -42,6 +45,7 @@ class MatrixFill {
   PetscInt rstart_ = 0, rend_ = 0, cstart_ = 0, cend_ = 0;
   const PetscInt *ia_ = nullptr, *ja_ = nullptr, *ib_ = nullptr, *jb_ = nullptr;
   PetscInt diagonal_nnz_ = 0;
+  PetscInt block_size_ = 1;  // BAIJ: positions index scalars, ia_/ja_ are block rows and columns
   double *diagonal_ = nullptr, *off_diagonal_ = nullptr;
   std::vector<PetscInt> offsets_, first_;
   PetscObjectId id_ = 0;

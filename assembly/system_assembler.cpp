@@ -152,17 +152,30 @@ PetscErrorCode SystemAssembler::create_vector(Vec* v) const {
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode SystemAssembler::create_matrix(Mat* m) const {
+bool SystemAssembler::uniform_blocks(int block_size) const {
+  if (dofs_.num_multipliers() > 0) return false;
+  for (const DofBlock& b : model_.blocks)
+    if (!b.fixed && b.size() != block_size) return false;
+  return true;
+}
+
+PetscErrorCode SystemAssembler::create_matrix(Mat* m, int block_size) const {
   PetscFunctionBeginUser;
+  PetscCheck(block_size == 1 || uniform_blocks(block_size), comm_, PETSC_ERR_ARG_WRONG,
+             "create_matrix: not every unknown is in a block of %d DoFs", block_size);
   std::vector<int> d, o;
   dofs_.count_nonzeros(d, o);
-  std::vector<PetscInt> dn(d.begin(), d.end()), on(o.begin(), o.end());
+  // Per block row (every row of a block has its pattern): the nonzero blocks of its first row.
+  std::vector<PetscInt> dn, on;
+  for (std::size_t i = 0; i < d.size(); i += block_size) {
+    dn.push_back(d[i] / block_size);
+    on.push_back(o[i] / block_size);
+  }
   PetscCall(MatCreate(comm_, m));
   PetscCall(MatSetSizes(*m, dofs_.owned_size(), dofs_.owned_size(), dofs_.global_size(), dofs_.global_size()));
-  PetscCall(MatSetType(*m, MATAIJ));
+  PetscCall(MatSetType(*m, block_size > 1 ? MATBAIJ : MATAIJ));
   PetscCall(MatSetFromOptions(*m));
-  PetscCall(MatSeqAIJSetPreallocation(*m, 0, dn.data()));
-  PetscCall(MatMPIAIJSetPreallocation(*m, 0, dn.data(), 0, on.data()));
+  PetscCall(MatXAIJSetPreallocation(*m, block_size, dn.data(), on.data(), nullptr, nullptr));
   PetscCall(MatSetOption(*m, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE));
   std::vector<char> stiffened(model_.blocks.size(), 0);
   for (const ElementEntry& e : model_.elements)
@@ -565,8 +578,6 @@ PetscErrorCode SystemAssembler::add_element_jacobian(int local, const ElementEnt
   // fixed maximum size: no heap traffic either way.
   using Local = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor, 36, 36>;
   if (n > 36) throw std::logic_error("add_element_jacobian: more than 36 DoFs");
-  thread_local Local A;
-  A.resize(n, n);
   auto combine = [&](auto& out, const auto& K, const auto& C, const auto& M) {
     for (int kj = 0; kj < ns; ++kj) {
       const SlotMap& mj = maps[kj];
@@ -590,46 +601,62 @@ PetscErrorCode SystemAssembler::add_element_jacobian(int local, const ElementEnt
       out.middleRows(mi.offset, 3).noalias() = mi.rows.lazyProduct(rowsi);
     }
   };
-  if (n == 12 && ns == 4) {
-    using Map12 = Eigen::Map<const Mat12>;
-    Mat12 A12;
-    combine(A12, Map12(t.K.data()), Map12(t.C.data()), Map12(t.M.data()));
-    A = A12;
-  } else {
-    combine(A, t.K, t.C, t.M);
-  }
-  if (!direct) {
-    thread_local std::vector<PetscInt> idx;
-    idx.assign(n, -1);
-    for (int k = 0; k < ns; ++k)
-      if (maps[k].free)
-        for (int i = 0; i < maps[k].n; ++i) idx[maps[k].offset + i] = dofs_.block_dof(maps[k].block) + i;
-    // Fixed rows and columns go in as -1 indices, which MatSetValues skips.
-    PetscCall(MatSetValues(J, n, idx.data(), n, idx.data(), A.data(), ADD_VALUES));
-    PetscFunctionReturn(0);
-  }
-  // The plan lists, row by row of each free slot i, one position per slot j (-1: fixed column or
-  // a row of another rank).
-  const PetscInt* plan = fill_.element_offsets(local);
-  for (int ki = 0; ki < ns; ++ki) {
-    const SlotMap& mi = maps[ki];
-    if (!mi.free) continue;
-    for (int r = 0; r < mi.n; ++r, plan += ns) {
-      const double* arow = A.row(mi.offset + r).data();
-      for (int kj = 0; kj < ns; ++kj) {
-        const SlotMap& mj = maps[kj];
-        if (!mj.free) continue;
-        const PetscInt at = plan[kj];
-        if (at >= 0) {
-          double* v = fill_.values(at);
-          for (int c = 0; c < mj.n; ++c) v[c] += arow[mj.offset + c];
-        } else {
-          const PetscInt row = dofs_.block_dof(mi.block) + r, col = dofs_.block_dof(mj.block);
-          const PetscInt cols[3] = {col, col + 1, col + 2};
-          PetscCall(MatSetValues(J, 1, &row, mj.n, cols, arow + mj.offset, ADD_VALUES));
+  // Into the matrix: through MatSetValues, or straight into its value arrays at the planned
+  // positions (the plan lists, row by row of each free slot i, one position per slot j; -1: fixed
+  // column or a row of another rank).
+  auto insert = [&](const auto& A) -> PetscErrorCode {
+    PetscFunctionBeginUser;
+    if (!direct) {
+      thread_local std::vector<PetscInt> idx;
+      idx.assign(n, -1);
+      for (int k = 0; k < ns; ++k)
+        if (maps[k].free)
+          for (int i = 0; i < maps[k].n; ++i) idx[maps[k].offset + i] = dofs_.block_dof(maps[k].block) + i;
+      // Fixed rows and columns go in as -1 indices, which MatSetValues skips.
+      PetscCall(MatSetValues(J, n, idx.data(), n, idx.data(), A.data(), ADD_VALUES));  // A row-major here
+      PetscFunctionReturn(0);
+    }
+    const PetscInt* plan = fill_.element_offsets(local);
+    const PetscInt stride = fill_.column_stride();
+    for (int ki = 0; ki < ns; ++ki) {
+      const SlotMap& mi = maps[ki];
+      if (!mi.free) continue;
+      for (int r = 0; r < mi.n; ++r, plan += ns) {
+        const int ar = mi.offset + r;
+        for (int kj = 0; kj < ns; ++kj) {
+          const SlotMap& mj = maps[kj];
+          if (!mj.free) continue;
+          const PetscInt at = plan[kj];
+          if (at >= 0) {
+            double* v = fill_.values(at);
+            for (int c = 0; c < mj.n; ++c) v[c * stride] += A(ar, mj.offset + c);
+          } else {
+            const PetscInt row = dofs_.block_dof(mi.block) + r, col = dofs_.block_dof(mj.block);
+            const PetscInt cols[3] = {col, col + 1, col + 2};
+            double vals[3];
+            for (int c = 0; c < mj.n; ++c) vals[c] = A(ar, mj.offset + c);
+            PetscCall(MatSetValues(J, 1, &row, mj.n, cols, vals, ADD_VALUES));
+          }
         }
       }
     }
+    PetscFunctionReturn(0);
+  };
+  if (n == 12 && ns == 4) {
+    using Map12 = Eigen::Map<const Mat12>;
+    Mat12 A12;  // column-major: the column maps write whole columns
+    combine(A12, Map12(t.K.data()), Map12(t.C.data()), Map12(t.M.data()));
+    if (direct) {
+      PetscCall(insert(A12));
+    } else {
+      const Eigen::Matrix<double, 12, 12, Eigen::RowMajor> rows = A12;  // MatSetValues reads rows
+      PetscCall(insert(rows));
+    }
+  } else {
+    thread_local Local A;
+    A.resize(n, n);
+    combine(A, t.K, t.C, t.M);
+    PetscCall(insert(A));
   }
   PetscFunctionReturn(0);
 }

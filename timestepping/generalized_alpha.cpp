@@ -18,7 +18,6 @@ namespace latticedyn {
 GeneralizedAlphaIntegrator::GeneralizedAlphaIntegrator(SystemAssembler& sa, DynamicSettings settings)
     : sa_(sa), settings_(settings) {
   const MPI_Comm comm = sa_.comm();
-  PetscCallAbort(comm, sa_.create_matrix(&J_));
   for (Vec* v : {&F_, &Uc_, &V_prev_, &A_est_, &A_scaled_}) PetscCallAbort(comm, sa_.create_vector(v));
   PetscCallAbort(comm, TSCreate(comm, &ts_));
   PetscCallAbort(comm, TSSetType(ts_, TSALPHA2));
@@ -29,8 +28,7 @@ GeneralizedAlphaIntegrator::GeneralizedAlphaIntegrator(SystemAssembler& sa, Dyna
   // (UMFPACK: about 230 k instructions per factorisation of the double pendulum's 22 unknowns).
   PetscMPIInt ranks;
   PetscCallAbort(comm, MPI_Comm_size(comm, &ranks));
-  PetscInt n = 0;
-  PetscCallAbort(comm, MatGetSize(J_, &n, nullptr));
+  const PetscInt n = sa_.dofs().global_size();
   PetscInt dense_below = kDenseBelow;
   PetscCallAbort(comm, PetscOptionsGetInt(nullptr, nullptr, "-dyn_dense_below", &dense_below, nullptr));
   // A direct solver or preconditioner asked for by option is taken as asked.
@@ -39,8 +37,16 @@ GeneralizedAlphaIntegrator::GeneralizedAlphaIntegrator(SystemAssembler& sa, Dyna
   PetscCallAbort(comm, PetscOptionsHasName(nullptr, nullptr, "-pc_type", &pc_chosen));
   PetscBool ksp_chosen = PETSC_FALSE;
   PetscCallAbort(comm, PetscOptionsHasName(nullptr, nullptr, "-ksp_type", &ksp_chosen));
-  if (ranks == 1 && n <= dense_below && !solver_chosen && !pc_chosen)
-    PetscCallAbort(comm, MatCreateSeqDense(PETSC_COMM_SELF, n, n, nullptr, &P_));
+  const bool dense = ranks == 1 && n <= dense_below && !solver_chosen && !pc_chosen;
+  if (dense) PetscCallAbort(comm, MatCreateSeqDense(PETSC_COMM_SELF, n, n, nullptr, &P_));
+  // Where every unknown is in a block of three (translations and rotations; no multipliers), PETSc's
+  // LU on one process works in dense 3 x 3 blocks: 0.6 of the AIJ factorisation's time on a
+  // 640-bay lattice (docs/performance.md). -dyn_block_matrix 0: AIJ all the same.
+  PetscBool blocks = PETSC_TRUE;
+  PetscCallAbort(comm, PetscOptionsGetBool(nullptr, nullptr, "-dyn_block_matrix", &blocks, nullptr));
+  const bool native = ranks == 1 && !dense && !solver_chosen && !pc_chosen;
+  const bool block_matrix = native && blocks && sa_.uniform_blocks(3);
+  PetscCallAbort(comm, sa_.create_matrix(&J_, block_matrix ? 3 : 1));
   PetscCallAbort(comm, TSSetI2Jacobian(ts_, J_, P_ ? P_ : J_, i2jacobian, this));
   PetscCallAbort(comm, TSAlpha2SetRadius(ts_, settings_.rho_infinity));
   PetscCallAbort(comm, TSSetTime(ts_, settings_.t_start));
@@ -119,7 +125,7 @@ GeneralizedAlphaIntegrator::GeneralizedAlphaIntegrator(SystemAssembler& sa, Dyna
     PC pc;
     PetscCallAbort(comm, KSPGetPC(ksp, &pc));
     PetscCallAbort(comm, PCFactorSetMatSolverType(pc, MATSOLVERPETSC));
-  } else if (ranks == 1 && !solver_chosen && !pc_chosen) {
+  } else if (native) {
     // The iteration matrix M a_m/(a_f beta h^2) + C gamma/(beta h) + K has its mass on the
     // diagonal, and with every multiplier ordered after its constraint's unknowns no pivot is zero:
     // PETSc's own LU then factors lattices and cranes several times faster than UMFPACK, whose

@@ -104,6 +104,17 @@ PetscErrorCode saddle_point_ordering(Mat A, MatOrderingType, IS* row, IS* col) {
   PetscCall(PetscFunctionListFind(MatOrderingList, MATORDERINGAMD, &amd));
   IS base_row, base_col;
   PetscCall(MatGetOrdering(A, amd ? MATORDERINGAMD : MATORDERINGRCM, &base_row, &base_col));
+  PetscInt bs;
+  PetscCall(MatGetBlockSize(A, &bs));
+  PetscBool baij;
+  PetscCall(PetscObjectTypeCompare((PetscObject)A, MATSEQBAIJ, &baij));
+  if (baij && bs > 1) {
+    // A block matrix (SystemAssembler::create_matrix with uniform blocks) has no rows without a
+    // pivot; its orderings permute blocks.
+    *row = base_row;
+    *col = base_col;
+    PetscFunctionReturn(0);
+  }
   const PetscInt* perm;
   PetscCall(ISGetIndices(base_row, &perm));
   std::vector<double> key(n);

@@ -20,7 +20,8 @@ inline constexpr const char* kSaddlePointOrdering = "saddle";
 /// independent constraint rows) instead of the zero the plain ordering would meet; a frame comes
 /// after as many of its multipliers. The rows are those of the ISs composed on the matrix under
 /// kMultiplierRows and kUnstiffenedRows (SystemAssembler::create_matrix does); without them, the
-/// rows with a zero diagonal count as multipliers.
+/// rows with a zero diagonal count as multipliers. On a block (BAIJ) matrix, which has no such
+/// rows, it is the plain block ordering.
 PetscErrorCode register_saddle_point_ordering();
 
 /// Sets ksp's LU to PETSc's own factorisation in kSaddlePointOrdering. Without pivoting or the

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cstdio>
+#include <string>
 #include <string_view>
 
 namespace latticedyn {
@@ -56,7 +57,11 @@ PetscErrorCode describe_preconditioner(PC pc, std::string* text) {
   PetscCall(PCFactorGetMatSolverType(pc, &package));
   const std::string name = package ? package : MATSOLVERPETSC;
   if (name == MATSOLVERPETSC) {
-    *text = "PETSc " + kind;
+    PetscBool baij = PETSC_FALSE;
+    PetscInt bs = 1;
+    if (P) PetscCall(PetscObjectTypeCompareAny((PetscObject)P, &baij, MATSEQBAIJ, MATMPIBAIJ, ""));
+    if (baij) PetscCall(MatGetBlockSize(P, &bs));
+    *text = "PETSc " + kind + (baij ? " in " + std::to_string(bs) + " x " + std::to_string(bs) + " blocks" : "");
   } else {
     std::string upper = name;
     for (char& c : upper) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));

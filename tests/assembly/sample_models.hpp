@@ -2,6 +2,7 @@
 // frames, a driven joint, strut ties, shared nodes, rotations far from the reference.
 #pragma once
 
+#include "assembly/lattice_builder.hpp"
 #include "assembly/model_builder.hpp"
 #include "core/rotation.hpp"
 #include "elements/cable.hpp"
@@ -193,6 +194,48 @@ inline Model kitchen_sink_model() {
   g.moment = Vec3(0.5, 0.0, 0.0);
   g.drive = 0;
   b.add_load(g);
+  return b.build();
+}
+
+/// A lattice section of Timoshenko members clamped at its first end by shared fixed joints, with a
+/// follower load at its far end: every unknown a translation or rotation block, no multipliers (the
+/// models create_matrix can hold in 3 x 3 blocks).
+inline Model clamped_lattice_model() {
+  ModelBuilder b;
+  b.set_gravity(Vec3(0, 0, -9.81));
+  TrussSectionSpec s;
+  s.length = 5.0;
+  s.order = 2;
+  s.end1 = {{0.75, 0.7}, {-0.75, 0.7}, {-0.75, -0.7}, {0.75, -0.7}};
+  s.end2 = s.end1;
+  s.main_beams = {{0, 0}, {1, 1}, {2, 2}, {3, 3}};
+  s.cross_beams1 = {{0, 1}, {1, 2}, {2, 3}, {3, 0}};
+  s.cross_beams2 = s.cross_beams1;
+  s.material = Material{7800, 2.06e11, 0.3};
+  s.main_section = s.cross_section = round_tube_section(0.1, 0.08);
+  s.sub_section = round_tube_section(0.05, 0.04);
+  const TrussGeometry g = build_truss_geometry(s);
+  FullLatticeOptions o;
+  o.rigid_ends = false;
+  const FullLattice l = add_full_lattice(b, "lattice", s, g, o);
+  int far = -1;
+  for (const auto& [name, joint] : l.joints) {
+    if (name == "e2n1") far = joint;
+    if (name.rfind("e1n", 0) != 0) continue;
+    const Joint& j = b.peek().joints[joint];
+    const DofBlock& t = b.peek().blocks[j.translation_block];
+    const DofBlock& r = b.peek().blocks[j.rotation_block];
+    const int ground = b.add_ground_joint("ground." + name, t.position0, r.orientation0 * j.frame);
+    b.add_constraint(Constraint{"clamp." + name, ConstraintType::fixed, 0, ground, joint, -1}, true);
+  }
+  NodalLoad f;
+  f.name = "follower";
+  f.joint = far;
+  f.force = Vec3(1e4, -2e4, 5e3);
+  f.force_frame = LoadFrame::body;
+  f.moment = Vec3(3e3, 1e3, -2e3);
+  f.moment_frame = LoadFrame::body;
+  b.add_load(f);
   return b.build();
 }
 

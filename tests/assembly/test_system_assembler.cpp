@@ -146,6 +146,56 @@ INSTANTIATE_TEST_SUITE_P(
                            1}),
     [](const ::testing::TestParamInfo<Case>& info) { return std::string(info.param.name); });
 
+// The same Jacobian in 3 x 3 blocks (BAIJ) as in compressed rows (AIJ): written through
+// MatSetValues the first time and straight into the block value arrays after, with a follower load
+// whose stiffness always goes through MatSetValues.
+TEST(SystemAssembler, BlockMatrixHoldsTheSameJacobian) {
+  const Model model = testing::clamped_lattice_model();
+  SystemAssembler sa(model, PETSC_COMM_SELF);
+  ASSERT_TRUE(sa.uniform_blocks(3));
+  EXPECT_FALSE(sa.uniform_blocks(6));
+  EXPECT_FALSE(SystemAssembler(testing::kitchen_sink_model(), PETSC_COMM_SELF).uniform_blocks(3));
+  Vec U, V;
+  sa.create_vector(&U);
+  sa.create_vector(&V);
+  sa.initial_state(U, V);
+  PetscInt n;
+  VecGetSize(U, &n);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> d(-0.05, 0.05);
+  for (PetscInt i = 0; i < n; ++i) {  // off the reference: rotations, stretches, rates
+    VecSetValue(U, i, d(rng), ADD_VALUES);
+    VecSetValue(V, i, 20 * d(rng), ADD_VALUES);
+  }
+  VecAssemblyBegin(U);
+  VecAssemblyEnd(U);
+  VecAssemblyBegin(V);
+  VecAssemblyEnd(V);
+  // An assembler plans its direct writes for one matrix: one for each.
+  SystemAssembler sa_blocks(model, PETSC_COMM_SELF);
+  Mat rows, blocks;
+  ASSERT_EQ(sa.create_matrix(&rows), 0);
+  ASSERT_EQ(sa_blocks.create_matrix(&blocks, 3), 0);
+  MatType type;
+  MatGetType(blocks, &type);
+  EXPECT_STREQ(type, MATSEQBAIJ);
+  EvaluationSettings how;
+  const EvaluationPoint at{U, V, nullptr, nullptr, 0.3, 0.4};
+  for (int pass = 0; pass < 2; ++pass) {
+    const double cq = 1.0 + pass, cv = 35.0, ca = 900.0;
+    ASSERT_EQ(sa.jacobian(at, how, cq, cv, ca, rows), 0);
+    ASSERT_EQ(sa_blocks.jacobian(at, how, cq, cv, ca, blocks), 0);
+    const Eigen::MatrixXd a = to_dense(rows, n), b = to_dense(blocks, n);
+    EXPECT_LT((a - b).cwiseAbs().maxCoeff(), 1e-12 * a.cwiseAbs().maxCoeff()) << "pass " << pass;
+  }
+  MatInfo info;
+  MatGetInfo(blocks, MAT_LOCAL, &info);
+  EXPECT_EQ(info.nz_unneeded, 0.0) << "preallocated more than used";
+  for (Mat* m : {&rows, &blocks}) MatDestroy(m);
+  VecDestroy(&U);
+  VecDestroy(&V);
+}
+
 TEST(SystemAssembler, PreallocationIsExactAndPatternFixed) {
   const Model model = testing::kitchen_sink_model();
   SystemAssembler sa(model, PETSC_COMM_SELF);

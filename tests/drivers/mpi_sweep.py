@@ -2,7 +2,7 @@
 """Every example and verification model on 1, 2 and 3 MPI ranks: the static equilibrium (where the
 model asks for one) and the first time steps must give the same state on every rank count.
 
-  mpi_sweep.py LATTICEDYN WORKDIR MODEL [--steps N] [--ranks 1 2 3] [--tolerance T] [--parallel-solver TEXT]
+  mpi_sweep.py LATTICEDYN WORKDIR MODEL [--steps N] [--ranks 1 2 3] [--tolerance T] [--serial-solver TEXT] [--parallel-solver TEXT]
 
 Runs `latticedyn run` (or `static` for a model without dynamics) with -ts_max_steps N on each
 rank count, reads the last recorded coordinate vector (/state/coordinates, in model order: the
@@ -10,7 +10,8 @@ same numbering on any number of ranks) and compares the runs on several ranks wi
 run: max |q_n - q_1| <= T (1 + max |q_1|). The ranks differ in their linear solver (PETSc's own LU
 or UMFPACK on one rank, MUMPS or GMRES on additive Schwarz on several) and in the order of their
 sums, so the Newton iterations end at different points inside their tolerance: T (default 1e-6) is
-that, not round-off. --parallel-solver: the runs on several ranks must report that linear solver.
+that, not round-off. --serial-solver, --parallel-solver: the runs on one and on several ranks must
+report that linear solver.
 Exit 0 when every rank count agrees, 1 with the differences otherwise.
 """
 import argparse
@@ -42,6 +43,7 @@ def main():
     ap.add_argument("--ranks", type=int, nargs="+", default=[1, 2, 3])
     ap.add_argument("--tolerance", type=float, default=1e-6)
     ap.add_argument("--parallel-solver", help="text the 'linear solver:' line must hold on several ranks")
+    ap.add_argument("--serial-solver", help="text the 'linear solver:' line must hold on one rank")
     a = ap.parse_args()
     command = "run" if has_dynamics(a.model) else "static"
     name = os.path.splitext(os.path.basename(a.model))[0]
@@ -57,10 +59,11 @@ def main():
         if p.returncode != 0:
             print(f"{name} on {n} rank(s): exit {p.returncode}\n{p.stdout[-3000:]}\n{p.stderr[-3000:]}")
             return 1
-        if n > 1 and a.parallel_solver:
+        expected = a.parallel_solver if n > 1 else a.serial_solver
+        if expected:
             line = next((l for l in p.stdout.splitlines() if l.startswith("linear solver:")), "(no 'linear solver:' line)")
-            if a.parallel_solver not in line:
-                print(f"{name} on {n} rank(s): expected a linear solver with '{a.parallel_solver}', got {line}")
+            if expected not in line:
+                print(f"{name} on {n} rank(s): expected a linear solver with '{expected}', got {line}")
                 return 1
             print(f"{name} on {n} rank(s): {line}")
         h5 = [f for f in os.listdir(out) if f.endswith(".h5")]

@@ -1,8 +1,10 @@
 // PETSc's own LU on constrained Jacobians: the saddle-point ordering factors a full lattice whose
 // rigid end sections are frames held by constraints alone (where a band ordering meets a zero
-// pivot) to the solution UMFPACK gives, and a failed factorisation falls back to UMFPACK.
+// pivot) to the solution UMFPACK gives, a lattice without constraints in 3 x 3 blocks too, and a
+// failed factorisation falls back to UMFPACK.
 #include "timestepping/native_lu.hpp"
 
+#include "../assembly/sample_models.hpp"
 #include "assembly/lattice_builder.hpp"
 #include "assembly/model_builder.hpp"
 #include "assembly/system_assembler.hpp"
@@ -52,10 +54,10 @@ Model two_section_boom() {
 }
 
 // The generalized-alpha iteration matrix at the initial state (h = 0.01 s, beta = 1/4).
-PetscErrorCode iteration_matrix(SystemAssembler& sa, Mat* J) {
+PetscErrorCode iteration_matrix(SystemAssembler& sa, Mat* J, int block_size = 1) {
   Vec U, V;
   PetscFunctionBeginUser;
-  PetscCall(sa.create_matrix(J));
+  PetscCall(sa.create_matrix(J, block_size));
   PetscCall(sa.create_vector(&U));
   PetscCall(sa.create_vector(&V));
   PetscCall(sa.initial_state(U, V));
@@ -131,6 +133,27 @@ TEST(NativeLU, SaddlePointOrderingFactorsRigidEndSectionsAsUmfpackDoes) {
   }
   EXPECT_LT(difference, 1e-9 * largest);
   MatDestroy(&J);
+}
+
+TEST(NativeLU, FactorsTheBlockMatrixOfALatticeAsUmfpackDoes) {
+  const Model model = testing::clamped_lattice_model();
+  SystemAssembler sa(model, PETSC_COMM_SELF);
+  Mat rows, blocks;
+  ASSERT_EQ(iteration_matrix(sa, &rows), 0);
+  SystemAssembler sa_blocks(model, PETSC_COMM_SELF);
+  ASSERT_EQ(iteration_matrix(sa_blocks, &blocks, 3), 0);
+  const Solve reference = solve(rows, MATSOLVERUMFPACK, MATORDERINGEXTERNAL);
+  const Solve native = solve(blocks, MATSOLVERPETSC, kSaddlePointOrdering);  // block AMD
+  ASSERT_EQ(reference.failure, PC_NOERROR);
+  ASSERT_EQ(native.failure, PC_NOERROR);
+  double largest = 0.0, difference = 0.0;
+  for (std::size_t i = 0; i < native.x.size(); ++i) {
+    largest = std::max(largest, std::abs(reference.x[i]));
+    difference = std::max(difference, std::abs(native.x[i] - reference.x[i]));
+  }
+  EXPECT_LT(difference, 1e-9 * largest);
+  MatDestroy(&rows);
+  MatDestroy(&blocks);
 }
 
 TEST(NativeLU, FailedFactorisationFallsBackToUmfpack) {
