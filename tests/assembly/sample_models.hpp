@@ -200,9 +200,8 @@ inline Model kitchen_sink_model() {
 /// A lattice section of Timoshenko members clamped at its first end by shared fixed joints, with a
 /// follower load at its far end: every unknown a translation or rotation block, no multipliers (the
 /// models create_matrix can hold in 3 x 3 blocks).
-inline Model clamped_lattice_model() {
-  ModelBuilder b;
-  b.set_gravity(Vec3(0, 0, -9.81));
+/// A 5 m steel lattice section of rectangular cross-section (1.5 x 1.4 m), order 2.
+inline TrussSectionSpec rectangular_section() {
   TrussSectionSpec s;
   s.length = 5.0;
   s.order = 2;
@@ -214,6 +213,13 @@ inline Model clamped_lattice_model() {
   s.material = Material{7800, 2.06e11, 0.3};
   s.main_section = s.cross_section = round_tube_section(0.1, 0.08);
   s.sub_section = round_tube_section(0.05, 0.04);
+  return s;
+}
+
+inline Model clamped_lattice_model() {
+  ModelBuilder b;
+  b.set_gravity(Vec3(0, 0, -9.81));
+  const TrussSectionSpec s = rectangular_section();
   const TrussGeometry g = build_truss_geometry(s);
   FullLatticeOptions o;
   o.rigid_ends = false;
