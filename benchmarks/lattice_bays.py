@@ -15,6 +15,7 @@ absolute tolerance 1e-6. Every bay adds 4 nodes of 6 DoFs: 10 bays are 240 free 
   build/drivers/latticedyn run /tmp/bays640.yaml -assembly_threads 1
 """
 import argparse
+import os
 
 END = [(0.75, 0.70), (-0.75, 0.70), (-0.75, -0.70), (0.75, -0.70)]
 BAY = 2.5
@@ -58,6 +59,7 @@ def write(bays, steps, reuse, interval, out):
                  f"jacobian_reuse: {reuse}}}\n"
                  "  petsc_options: \"-snes_atol 1e-6 -snes_rtol 1e-50\"\n")
     lines.append(f"output:\n  interval: {interval}\n  probes: [bay{bays}.e2n1]\n")
+    os.makedirs(os.path.dirname(os.path.abspath(out)), exist_ok=True)
     with open(out, "w") as f:
         f.writelines(lines)
 
