@@ -3,6 +3,8 @@
 
 #include "core/rotation.hpp"
 
+#include <stdexcept>
+
 namespace latticedyn {
 
 void block_kinematics(const DofBlock& block, const double* u, const double* v, const double* a,
@@ -74,6 +76,21 @@ void gather_slots(const ElementEntry& entry, const std::vector<BlockState>& bloc
   slots.clear();
   for (std::size_t k = 0; k < kinds.size(); ++k)
     slots.push_back(slot_state(blocks[entry.slots[k].block], kinds[k], entry.slots[k].offset));
+}
+
+ElementRun gather_run(const Model& model, const std::vector<int>& ids, int first, int count,
+                      const std::vector<BlockState>& blocks) {
+  if (count < 1 || count > kMaxElementBatch) throw std::logic_error("gather_run: one to kMaxElementBatch elements");
+  thread_local std::array<std::vector<SlotState<double>>, kMaxElementBatch> slots;
+  ElementRun run;
+  run.count = count;
+  for (int k = 0; k < count; ++k) {
+    const ElementEntry& entry = model.elements[ids[first + k]];
+    gather_slots(entry, blocks, slots[k]);
+    run.elements[k] = entry.element.get();
+    run.states[k] = slots[k];
+  }
+  return run;
 }
 
 }  // namespace latticedyn

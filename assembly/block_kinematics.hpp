@@ -6,6 +6,9 @@
 #include "assembly/constraint_evaluator.hpp"
 #include "assembly/rotation_chain.hpp"
 
+#include <array>
+#include <span>
+
 namespace latticedyn {
 
 enum class Parametrization { rotation_vector_rates, velocity_variables };
@@ -32,5 +35,21 @@ BlockState slot_state(const BlockState& block, SlotKind kind, const Mat3& offset
 /// The slot states of an element from the states of all blocks (indexed by model block id).
 void gather_slots(const ElementEntry& entry, const std::vector<BlockState>& blocks,
                   std::vector<SlotState<double>>& slots);
+
+/// Consecutive elements of one type evaluated together (Element::residual_batch, tangents_batch)
+/// and their slot states.
+struct ElementRun {
+  int count = 0;
+  std::array<const Element*, kMaxElementBatch> elements{};
+  std::array<std::span<const SlotState<double>>, kMaxElementBatch> states{};
+  std::size_t size() const { return static_cast<std::size_t>(count); }
+  std::span<const Element* const> element_span() const { return {elements.data(), size()}; }
+  std::span<const std::span<const SlotState<double>>> state_span() const { return {states.data(), size()}; }
+};
+
+/// The elements model.elements[ids[first + k]], k < count (at most kMaxElementBatch), with their
+/// slot states, which stay valid until the calling thread's next gather_run.
+ElementRun gather_run(const Model& model, const std::vector<int>& ids, int first, int count,
+                      const std::vector<BlockState>& blocks);
 
 }  // namespace latticedyn

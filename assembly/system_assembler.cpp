@@ -18,6 +18,7 @@
 #include <array>
 #include <cmath>
 #include <stdexcept>
+#include <typeinfo>
 
 namespace latticedyn {
 
@@ -65,6 +66,21 @@ SystemAssembler::SystemAssembler(const Model& model, MPI_Comm comm)
   }
   element_residuals_.resize(threaded_.size());
   element_tangents_.resize(threaded_.size());
+  run_first_.assign(elements.size(), -1);
+  run_length_.assign(elements.size(), 0);
+  for (std::size_t i = 0; i < elements.size();) {
+    const Element& e = *model_.elements[elements[i]].element;
+    const std::size_t width = static_cast<std::size_t>(std::clamp(e.batch_size(), 1, kMaxElementBatch));
+    std::size_t n = 1;
+    while (n < width && i + n < elements.size() &&
+           typeid(*model_.elements[elements[i + n]].element) == typeid(e) &&
+           (buffer_of_[i + n] < 0) == (buffer_of_[i] < 0))
+      ++n;
+    for (std::size_t k = 0; k < n; ++k) run_first_[i + k] = static_cast<int>(i);
+    run_length_[i] = static_cast<int>(n);
+    if (buffer_of_[i] >= 0) threaded_runs_.push_back(static_cast<int>(i));  // buffers i..i+n-1 are consecutive
+    i += n;
+  }
 
   PetscCallAbort(comm_, VecCreateMPI(comm_, dofs_.owned_size(), dofs_.global_size(), &global_template_));
   for (Vec* v : {&u_loc_, &v_loc_, &a_loc_, &uc_loc_, &r_loc_})
@@ -285,21 +301,24 @@ PetscErrorCode SystemAssembler::residual(const EvaluationPoint& at, const Evalua
   const std::vector<int>& elements = dofs_.local_elements();
   const LogEvents& events = log_events();
   PetscCall(PetscLogEventBegin(events.element_residual, 0, 0, 0, 0));
-  auto evaluate = [&](int i, VecX& re) {
-    const ElementEntry& entry = model_.elements[elements[i]];
-    thread_local std::vector<SlotState<double>> slots;
-    gather_slots(entry, state_, slots);
-    re.resize(entry.element->num_dofs());
-    entry.element->residual(slots, ctx, re);
+  auto evaluate = [&](int first, VecX* out) {
+    const ElementRun run = gather_run(model_, elements, first, run_length_[first], state_);
+    if (run.count == 1) {
+      out[0].resize(run.elements[0]->num_dofs());
+      run.elements[0]->residual(run.states[0], ctx, out[0]);
+    } else {
+      run.elements[0]->residual_batch(run.element_span(), run.state_span(), ctx, {out, run.size()});
+    }
   };
-  parallel_for_each(static_cast<int>(threaded_.size()), threads_,
-                    [&](int k) { evaluate(threaded_[k], element_residuals_[k]); });
-  VecX inline_re;
+  parallel_for_each(static_cast<int>(threaded_runs_.size()), threads_, [&](int k) {
+    evaluate(threaded_runs_[k], &element_residuals_[buffer_of_[threaded_runs_[k]]]);
+  });
+  thread_local std::array<VecX, kMaxElementBatch> inline_re;
   for (std::size_t i = 0; i < elements.size(); ++i) {
     const ElementEntry& entry = model_.elements[elements[i]];
     const auto kinds = entry.element->slots();
-    if (buffer_of_[i] < 0) evaluate(static_cast<int>(i), inline_re);
-    const VecX& re = buffer_of_[i] < 0 ? inline_re : element_residuals_[buffer_of_[i]];
+    if (buffer_of_[i] < 0 && run_first_[i] == static_cast<int>(i)) evaluate(static_cast<int>(i), inline_re.data());
+    const VecX& re = buffer_of_[i] < 0 ? inline_re[i - run_first_[i]] : element_residuals_[buffer_of_[i]];
     int o = 0;
     for (std::size_t k = 0; k < kinds.size(); ++k) {
       const int n = slot_size(kinds[k]);
@@ -414,23 +433,25 @@ PetscErrorCode SystemAssembler::jacobian(const EvaluationPoint& at, const Evalua
   const std::vector<int>& elements = dofs_.local_elements();
   const LogEvents& events = log_events();
   PetscCall(PetscLogEventBegin(events.element_jacobian, 0, 0, 0, 0));
-  auto evaluate = [&](int i, ElementTangents& t) {
-    const ElementEntry& entry = model_.elements[elements[i]];
-    thread_local std::vector<SlotState<double>> slots;
-    gather_slots(entry, state_, slots);
-    entry.element->tangents(slots, ctx, t);
+  auto evaluate = [&](int first, ElementTangents* out) {
+    const ElementRun run = gather_run(model_, elements, first, run_length_[first], state_);
+    if (run.count == 1)
+      run.elements[0]->tangents(run.states[0], ctx, out[0]);
+    else
+      run.elements[0]->tangents_batch(run.element_span(), run.state_span(), ctx, {out, run.size()});
   };
-  parallel_for_each(static_cast<int>(threaded_.size()), threads_,
-                    [&](int k) { evaluate(threaded_[k], element_tangents_[k]); });
+  parallel_for_each(static_cast<int>(threaded_runs_.size()), threads_, [&](int k) {
+    evaluate(threaded_runs_[k], &element_tangents_[buffer_of_[threaded_runs_[k]]]);
+  });
   // Elements' tangents go straight into the matrix's value arrays where the plan knows the
   // positions (every Jacobian after the first, on rows this rank owns), else through MatSetValues.
   const bool direct = fill_.ready_for(J);
   if (direct) PetscCall(fill_.begin(J));
-  ElementTangents inline_t;
+  thread_local std::array<ElementTangents, kMaxElementBatch> inline_t;
   for (std::size_t i = 0; i < elements.size(); ++i) {
     const ElementEntry& entry = model_.elements[elements[i]];
-    if (buffer_of_[i] < 0) evaluate(static_cast<int>(i), inline_t);
-    const ElementTangents& t = buffer_of_[i] < 0 ? inline_t : element_tangents_[buffer_of_[i]];
+    if (buffer_of_[i] < 0 && run_first_[i] == static_cast<int>(i)) evaluate(static_cast<int>(i), inline_t.data());
+    const ElementTangents& t = buffer_of_[i] < 0 ? inline_t[i - run_first_[i]] : element_tangents_[buffer_of_[i]];
     PetscCall(add_element_jacobian(static_cast<int>(i), entry, t, cq, cv, ca, direct, J, y));
   }
   if (direct) PetscCall(fill_.end(J));
@@ -618,6 +639,23 @@ PetscErrorCode SystemAssembler::add_element_jacobian(int local, const ElementEnt
     }
     const PetscInt* plan = fill_.element_offsets(local);
     const PetscInt stride = fill_.column_stride();
+    if (stride == 3) {
+      // BAIJ's 3 x 3 blocks are column-major and contiguous: the first row's position is the block's.
+      // Every slot has three DoFs (uniform_blocks) and every row is this rank's (one rank).
+      for (int ki = 0; ki < ns; ++ki) {
+        const SlotMap& mi = maps[ki];
+        if (!mi.free) continue;
+        const PetscInt* row0 = plan;
+        plan += 3 * ns;
+        for (int kj = 0; kj < ns; ++kj) {
+          const SlotMap& mj = maps[kj];
+          if (!mj.free) continue;
+          PetscCheck(row0[kj] >= 0, PETSC_COMM_SELF, PETSC_ERR_PLIB, "block matrix: an element block outside the plan");
+          Eigen::Map<Mat3>(fill_.values(row0[kj])) += A.template block<3, 3>(mi.offset, mj.offset);
+        }
+      }
+      PetscFunctionReturn(0);
+    }
     for (int ki = 0; ki < ns; ++ki) {
       const SlotMap& mi = maps[ki];
       if (!mi.free) continue;

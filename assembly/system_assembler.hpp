@@ -143,6 +143,11 @@ class SystemAssembler {
   int threads_ = 1;
   std::vector<int> threaded_;         // positions in local_elements() of the threaded elements
   std::vector<int> buffer_of_;        // per position in local_elements(): its buffer, or -1
+  // Runs of consecutive elements of one type that evaluate together (Element::batch_size), never
+  // mixing threaded and inline ones: per position, the first position of its run; at a run's
+  // first position, its length.
+  std::vector<int> run_first_, run_length_;
+  std::vector<int> threaded_runs_;  // first positions of the threaded runs
   std::vector<VecX> element_residuals_;            // per threaded element
   std::vector<ElementTangents> element_tangents_;  // per threaded element
   MatrixFill fill_;  // where the elements' blocks sit in the Jacobian, after its first assembly

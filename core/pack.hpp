@@ -151,3 +151,24 @@ inline Mat3T<Pack4> tangent_inverse_transpose_derivative(const Vec3T<Pack4>& phi
 }
 
 }  // namespace latticedyn
+
+namespace latticedyn {
+
+/// Lane l of a fixed-size matrix of packs, as doubles.
+template <class Derived>
+Eigen::Matrix<double, Derived::RowsAtCompileTime, Derived::ColsAtCompileTime> lane(const Eigen::MatrixBase<Derived>& m,
+                                                                                     int l) {
+  Eigen::Matrix<double, Derived::RowsAtCompileTime, Derived::ColsAtCompileTime> out;
+  for (int j = 0; j < m.cols(); ++j)
+    for (int i = 0; i < m.rows(); ++i) out(i, j) = m(i, j)[l];
+  return out;
+}
+
+/// Sets lane l of a fixed-size matrix of packs from doubles.
+template <class Derived, class Other>
+void set_lane(Eigen::MatrixBase<Derived>& m, int l, const Eigen::MatrixBase<Other>& v) {
+  for (int j = 0; j < m.cols(); ++j)
+    for (int i = 0; i < m.rows(); ++i) m(i, j)[l] = v(i, j);
+}
+
+}  // namespace latticedyn

@@ -3,6 +3,7 @@
 // closed form, shared by the full lattice's members and every member inside a super truss.
 #pragma once
 
+#include "core/pack.hpp"
 #include "core/rotation.hpp"
 #include "core/types.hpp"
 
@@ -40,6 +41,14 @@ struct CorotationalStiffnessT {
   K ky[2] = {K(0.0), K(0.0)};  ///< bending about y
 };
 using CorotationalStiffness = CorotationalStiffnessT<double>;
+
+/// Lane l of four beams' constants set from one beam's.
+inline void set_lane(CorotationalStiffnessT<Pack4>& k, int l, const CorotationalStiffness& one) {
+  k.length[l] = one.length;
+  k.ea[l] = one.ea;
+  k.gj[l] = one.gj;
+  for (int i = 0; i < 2; ++i) k.kz[i][l] = one.kz[i], k.ky[i][l] = one.ky[i];
+}
 
 /// Stretch u = l - L0 and end rotations theta_i = log(Rr^T R_i) relative to the co-rotational
 /// frame Rr = [e1 e2 e3]: e1 = d/l, e3 along e1 x (R1 e_y + R2 e_y), e2 = e3 x e1

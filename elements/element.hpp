@@ -58,6 +58,9 @@ struct ElementOutput {
   std::vector<double> polyline_axial_forces;   ///< empty: every polyline drawn with axial_force
 };
 
+/// The most elements one batched evaluation takes (the lanes of core/pack.hpp's Pack4).
+inline constexpr int kMaxElementBatch = 4;
+
 /// Residual and tangents in the slots' velocity variables, r = M dq_dot + F (thesis C-6, C-87):
 /// K = dr/dq (rotations perturbed as R exp(skew(dtheta))), C = dr/d(dq), M = dr/d(dq_dot).
 struct ElementTangents {
@@ -89,6 +92,19 @@ class Element {
                         ElementTangents& out) const = 0;
   virtual ElementEnergy energy(std::span<const SlotState<double>> state,
                                const ElementContext& ctx) const = 0;
+
+  /// Up to how many elements of this type one *_batch call evaluates together (one kernel on
+  /// SIMD lanes); 1: none. The assembler hands consecutive elements of one type to the first's
+  /// residual_batch / tangents_batch, at most batch_size() and kMaxElementBatch of them.
+  virtual int batch_size() const { return 1; }
+  /// residual / tangents of elements[k] (each of this element's dynamic type) at states[k] into
+  /// out[k], the same as the single evaluations up to round-off; by default one by one.
+  virtual void residual_batch(std::span<const Element* const> elements,
+                              std::span<const std::span<const SlotState<double>>> states, const ElementContext& ctx,
+                              std::span<VecX> out) const;
+  virtual void tangents_batch(std::span<const Element* const> elements,
+                              std::span<const std::span<const SlotState<double>>> states, const ElementContext& ctx,
+                              std::span<ElementTangents> out) const;
 
   /// Axial force of a bar-like element (tension positive), for output; none by default.
   virtual std::optional<double> axial_force(std::span<const SlotState<double>> /*state*/,

@@ -91,10 +91,7 @@ SuperTrussElement::SuperTrussElement(const TrussSectionSpec& spec, const TrussGe
       batch.b[l] = m.b;
       const CorotationalStiffness& k = m.beam->stiffness();
       if (real) {
-        batch.stiffness.length[l] = k.length;
-        batch.stiffness.ea[l] = k.ea;
-        batch.stiffness.gj[l] = k.gj;
-        for (int i = 0; i < 2; ++i) batch.stiffness.kz[i][l] = k.kz[i], batch.stiffness.ky[i][l] = k.ky[i];
+        set_lane(batch.stiffness, l, k);
       } else {
         batch.stiffness.length[l] = k.length;  // a copy without stiffness: no force
       }
@@ -120,13 +117,6 @@ SuperTrussElement::SuperTrussElement(const TrussSectionSpec& spec, const TrussGe
     if (map_.node(n).end != 0) end_rotary_[map_.node(n).end - 1] += lumped_.rotary[n];
   }
 }
-
-namespace {
-
-// Lane l of packed vectors.
-Vec3 lane(const Vec3T<Pack4>& v, int l) { return Vec3(v(0)[l], v(1)[l], v(2)[l]); }
-
-}  // namespace
 
 void SuperTrussElement::gather(const std::vector<Vec3>& p, const std::vector<Mat3>& R, const MemberBatch& bt,
                                Vec3T<Pack4>& r1, Vec3T<Pack4>& d, Mat3T<Pack4>& R1, Mat3T<Pack4>& R2) {

@@ -2,6 +2,7 @@
 // form inertia and gravity.
 #include "elements/timoshenko_beam.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -74,6 +75,60 @@ void TimoshenkoBeam::tangents(std::span<const SlotState<double>> s, const Elemen
   elastic_force(s[2].pos - s[0].pos, s[1].rot, s[3].rot, f, &K);
   out.residual += expand_force(f);
   add_expanded(K, out.K);
+}
+
+namespace {
+
+// Up to four beams on the lanes of the co-rotational kernel; unused lanes repeat the last beam.
+struct BeamLanes {
+  CorotationalStiffnessT<Pack4> k;
+  Vec3T<Pack4> d;
+  Mat3T<Pack4> R1, R2;
+  CorotationalForce<Pack4> force;
+
+  BeamLanes(std::span<const Element* const> beams, std::span<const std::span<const SlotState<double>>> states) {
+    const int n = static_cast<int>(beams.size());
+    if (n < 1 || n > Pack4::kLanes) throw std::logic_error("TimoshenkoBeam: a batch holds one to four beams");
+    for (int l = 0; l < Pack4::kLanes; ++l) {
+      const int b = std::min(l, n - 1);
+      const std::span<const SlotState<double>> s = states[b];
+      set_lane(k, l, static_cast<const TimoshenkoBeam&>(*beams[b]).stiffness());
+      set_lane(d, l, s[2].pos - s[0].pos);
+      set_lane(R1, l, s[1].rot);
+      set_lane(R2, l, s[3].rot);
+    }
+    corotational_internal_force(k, d, R1, R2, force);
+  }
+};
+
+}  // namespace
+
+void TimoshenkoBeam::residual_batch(std::span<const Element* const> elements,
+                                    std::span<const std::span<const SlotState<double>>> states,
+                                    const ElementContext& ctx, std::span<VecX> out) const {
+  const BeamLanes lanes(elements, states);
+  for (std::size_t b = 0; b < elements.size(); ++b) {
+    const auto& beam = static_cast<const TimoshenkoBeam&>(*elements[b]);
+    out[b].resize(12);
+    beam.inertia(states[b], ctx, out[b], nullptr);
+    out[b] += expand_force(lane(lanes.force.f, static_cast<int>(b)));
+  }
+}
+
+void TimoshenkoBeam::tangents_batch(std::span<const Element* const> elements,
+                                    std::span<const std::span<const SlotState<double>>> states,
+                                    const ElementContext& ctx, std::span<ElementTangents> out) const {
+  const BeamLanes lanes(elements, states);
+  Eigen::Matrix<Pack4, 9, 9> K9;
+  corotational_tangent(lanes.k, lanes.R1, lanes.R2, lanes.force, K9);
+  for (std::size_t b = 0; b < elements.size(); ++b) {
+    const auto& beam = static_cast<const TimoshenkoBeam&>(*elements[b]);
+    ElementTangents& t = out[b];
+    t.resize(12);
+    beam.inertia(states[b], ctx, t.residual, &t);
+    t.residual += expand_force(lane(lanes.force.f, static_cast<int>(b)));
+    add_expanded(lane(K9, static_cast<int>(b)), t.K);
+  }
 }
 
 ElementEnergy TimoshenkoBeam::energy(std::span<const SlotState<double>> s, const ElementContext& ctx) const {

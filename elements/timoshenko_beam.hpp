@@ -48,6 +48,14 @@ class TimoshenkoBeam final : public Element {
   void tangents(std::span<const SlotState<double>> state, const ElementContext& ctx,
                 ElementTangents& out) const override;
   ElementEnergy energy(std::span<const SlotState<double>> state, const ElementContext& ctx) const override;
+  /// Four beams at once: the co-rotational kernel on the lanes of Pack4 (a lattice's members).
+  int batch_size() const override { return Pack4::kLanes; }
+  void residual_batch(std::span<const Element* const> elements,
+                      std::span<const std::span<const SlotState<double>>> states, const ElementContext& ctx,
+                      std::span<VecX> out) const override;
+  void tangents_batch(std::span<const Element* const> elements,
+                      std::span<const std::span<const SlotState<double>>> states, const ElementContext& ctx,
+                      std::span<ElementTangents> out) const override;
   std::optional<double> axial_force(std::span<const SlotState<double>> state,
                                     const ElementContext& ctx) const override;
   /// Five points along the deformed axis (the local cubic deflection of the end rotations).

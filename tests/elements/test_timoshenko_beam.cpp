@@ -101,6 +101,47 @@ TEST(TimoshenkoBeam, PowerEqualsRateOfEnergy) {
   for (int trial = 0; trial < 10; ++trial) testing::expect_power_identity(beam, deformed_state(rng, 2.0, 0.3, 2.0), ctx);
 }
 
+// Batches of one to four beams of different sections and lengths (a lattice's members, evaluated
+// on the lanes of Pack4) give each beam's own residual and tangents to round-off, near the
+// reference (the log map's series) and at large local rotations (its closed form).
+TEST(TimoshenkoBeam, BatchEqualsSingleEvaluations) {
+  std::mt19937 rng(5);
+  const ElementContext ctx{Vec3(0, 0, -9.81), 0.0};
+  std::vector<TimoshenkoBeam> beams;
+  for (int k = 0; k < 4; ++k) {
+    BeamProperties p = steel_tube(1.5 + 0.5 * k);
+    p.section = round_tube_section(0.05 + 0.02 * k, 0.04);
+    beams.emplace_back(p);
+  }
+  for (const double twist : {1e-4, 0.8})
+    for (int count = 1; count <= 4; ++count) {
+      std::vector<std::vector<SlotState<double>>> states;
+      std::vector<const Element*> elements;
+      std::vector<std::span<const SlotState<double>>> spans;
+      for (int k = 0; k < count; ++k) states.push_back(deformed_state(rng, beams[k].properties().length, twist, 2.0));
+      for (int k = 0; k < count; ++k) {
+        elements.push_back(&beams[k]);
+        spans.emplace_back(states[k]);
+      }
+      std::vector<VecX> residuals(count);
+      std::vector<ElementTangents> tangents(count);
+      beams[0].residual_batch(elements, spans, ctx, residuals);
+      beams[0].tangents_batch(elements, spans, ctx, tangents);
+      for (int k = 0; k < count; ++k) {
+        VecX r(12);
+        ElementTangents t;
+        beams[k].residual(states[k], ctx, r);
+        beams[k].tangents(states[k], ctx, t);
+        const double scale = t.K.cwiseAbs().maxCoeff();
+        EXPECT_LT((residuals[k] - r).cwiseAbs().maxCoeff(), 1e-12 * r.cwiseAbs().maxCoeff()) << count << " " << k;
+        EXPECT_LT((tangents[k].residual - r).cwiseAbs().maxCoeff(), 1e-12 * r.cwiseAbs().maxCoeff());
+        EXPECT_LT((tangents[k].K - t.K).cwiseAbs().maxCoeff(), 1e-12 * scale) << count << " " << k;
+        EXPECT_EQ(tangents[k].C, t.C);
+        EXPECT_EQ(tangents[k].M, t.M);
+      }
+    }
+}
+
 // Linear stiffness of one element clamped at end 1, tip force P across the axis:
 // w = P L^3 / (3 E I) + P L / (kappa G A) (Timoshenko beam theory; e.g. Gere & Timoshenko,
 // Mechanics of Materials, shear deflection of a cantilever). Thick beam: L = 5 h.
