@@ -1,4 +1,4 @@
-// Positions of element blocks in the compressed rows of an AIJ matrix, and writes into them.
+// Positions of element blocks in the compressed rows of an AIJ or BAIJ matrix, and writes into them.
 #include "assembly/matrix_fill.hpp"
 
 #include <algorithm>
@@ -26,6 +26,9 @@ PetscErrorCode MatrixFill::open(Mat J) {
     PetscCall(MatGetBlockSize(J, &block_size_));
   } else if (std::strcmp(type, MATMPIAIJ) == 0) {
     PetscCall(MatMPIAIJGetSeqAIJ(J, &a_, &b_, &garray_));
+  } else if (std::strcmp(type, MATMPIBAIJ) == 0) {
+    PetscCall(MatMPIBAIJGetSeqBAIJ(J, &a_, &b_, &garray_));  // garray: the off-diagonal block columns
+    PetscCall(MatGetBlockSize(J, &block_size_));
   } else {
     PetscFunctionReturn(0);  // no plan: MatSetValues as before
   }
@@ -34,9 +37,10 @@ PetscErrorCode MatrixFill::open(Mat J) {
   PetscInt n;
   PetscBool done;
   // BAIJ: the block rows' block columns.
-  PetscCall(MatGetRowIJ(a_, 0, PETSC_FALSE, block_size_ > 1 ? PETSC_TRUE : PETSC_FALSE, &n, &ia_, &ja_, &done));
+  const PetscBool blocks = block_size_ > 1 ? PETSC_TRUE : PETSC_FALSE;
+  PetscCall(MatGetRowIJ(a_, 0, PETSC_FALSE, blocks, &n, &ia_, &ja_, &done));
   diagonal_nnz_ = ia_[n] * block_size_ * block_size_;
-  if (b_) PetscCall(MatGetRowIJ(b_, 0, PETSC_FALSE, PETSC_FALSE, &n, &ib_, &jb_, &done));
+  if (b_) PetscCall(MatGetRowIJ(b_, 0, PETSC_FALSE, blocks, &n, &ib_, &jb_, &done));
   matrix = J;
   PetscCall(PetscObjectGetId(reinterpret_cast<PetscObject>(J), &id_));
   PetscCall(MatGetNonzeroState(J, &pattern_));
@@ -66,13 +70,24 @@ void MatrixFill::add_position(PetscInt row, PetscInt col) {
   };
   if (block_size_ > 1) {
     // Block (lr / bs, col / bs), stored column by column: its entry (r, c) at bs^2 k + bs c + r.
-    const PetscInt bs = block_size_, br = lr / bs, bc = (col - cstart_) / bs;
-    if ((col - cstart_) % bs != 0) missing();
-    const PetscInt* begin = ja_ + ia_[br];
-    const PetscInt* end = ja_ + ia_[br + 1];
-    const PetscInt* it = std::lower_bound(begin, end, bc);
-    if (it == end || *it != bc) missing();
-    offsets_.push_back(static_cast<PetscInt>(it - ja_) * bs * bs + lr % bs);
+    const PetscInt bs = block_size_, br = lr / bs;
+    if (col % bs != 0) missing();
+    if (col >= cstart_ && col < cend_) {
+      const PetscInt bc = (col - cstart_) / bs;
+      const PetscInt* begin = ja_ + ia_[br];
+      const PetscInt* end = ja_ + ia_[br + 1];
+      const PetscInt* it = std::lower_bound(begin, end, bc);
+      if (it == end || *it != bc) missing();
+      offsets_.push_back(static_cast<PetscInt>(it - ja_) * bs * bs + lr % bs);
+      return;
+    }
+    if (!b_) missing();
+    const PetscInt bc = col / bs;  // global block column, in the sorted garray
+    const PetscInt* begin = jb_ + ib_[br];
+    const PetscInt* end = jb_ + ib_[br + 1];
+    const PetscInt* it = std::lower_bound(begin, end, bc, [&](PetscInt k, PetscInt c) { return garray_[k] < c; });
+    if (it == end || garray_[*it] != bc) missing();
+    offsets_.push_back(diagonal_nnz_ + static_cast<PetscInt>(it - jb_) * bs * bs + lr % bs);
     return;
   }
   if (col >= cstart_ && col < cend_) {
@@ -97,8 +112,9 @@ PetscErrorCode MatrixFill::close() {
   PetscBool done;
   PetscFunctionBeginUser;
   if (!matrix) PetscFunctionReturn(0);
-  PetscCall(MatRestoreRowIJ(a_, 0, PETSC_FALSE, block_size_ > 1 ? PETSC_TRUE : PETSC_FALSE, &n, &ia_, &ja_, &done));
-  if (b_) PetscCall(MatRestoreRowIJ(b_, 0, PETSC_FALSE, PETSC_FALSE, &n, &ib_, &jb_, &done));
+  const PetscBool blocks = block_size_ > 1 ? PETSC_TRUE : PETSC_FALSE;
+  PetscCall(MatRestoreRowIJ(a_, 0, PETSC_FALSE, blocks, &n, &ia_, &ja_, &done));
+  if (b_) PetscCall(MatRestoreRowIJ(b_, 0, PETSC_FALSE, blocks, &n, &ib_, &jb_, &done));
   ready = true;
   PetscFunctionReturn(0);
 }
@@ -107,6 +123,7 @@ PetscErrorCode MatrixFill::begin(Mat) {
   PetscFunctionBeginUser;
   if (block_size_ > 1) {
     PetscCall(MatSeqBAIJGetArray(a_, &diagonal_));
+    if (b_) PetscCall(MatSeqBAIJGetArray(b_, &off_diagonal_));
     PetscFunctionReturn(0);
   }
   PetscCall(MatSeqAIJGetArray(a_, &diagonal_));
@@ -118,6 +135,7 @@ PetscErrorCode MatrixFill::end(Mat) {
   PetscFunctionBeginUser;
   if (block_size_ > 1) {
     PetscCall(MatSeqBAIJRestoreArray(a_, &diagonal_));
+    if (b_) PetscCall(MatSeqBAIJRestoreArray(b_, &off_diagonal_));
     PetscFunctionReturn(0);
   }
   PetscCall(MatSeqAIJRestoreArray(a_, &diagonal_));

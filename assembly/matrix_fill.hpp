@@ -1,4 +1,4 @@
-// Direct writes of element blocks into a PETSc AIJ matrix whose nonzero pattern never changes:
+// Direct writes of element blocks into a PETSc (B)AIJ matrix whose nonzero pattern never changes:
 // each block's place in the compressed rows is looked up once, after the first assembly, so later
 // Jacobians add into the value arrays without MatSetValues' search per entry.
 #pragma once
@@ -9,9 +9,9 @@
 
 namespace latticedyn {
 
-/// A plan of positions in the value arrays of a (Seq|MPI)AIJ or SeqBAIJ matrix: per element, one
-/// position per (row, block of columns) it adds to, in the element's own order. A position is an
-/// offset into the diagonal part's values, or past them into the off-diagonal part's (MPIAIJ); -1
+/// A plan of positions in the value arrays of a (Seq|MPI)AIJ or (Seq|MPI)BAIJ matrix: per element,
+/// one position per (row, block of columns) it adds to, in the element's own order. A position is
+/// an offset into the diagonal part's values, or past them into the off-diagonal part's (MPI); -1
 /// where the row belongs to another rank or there is no column block (those go through
 /// MatSetValues). A row's entries of one column block lie column_stride() apart: 1 in AIJ's
 /// compressed rows, the block size in BAIJ's column-major blocks. Other matrix types (e.g. by

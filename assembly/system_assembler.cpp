@@ -641,7 +641,7 @@ PetscErrorCode SystemAssembler::add_element_jacobian(int local, const ElementEnt
     const PetscInt stride = fill_.column_stride();
     if (stride == 3) {
       // BAIJ's 3 x 3 blocks are column-major and contiguous: the first row's position is the block's.
-      // Every slot has three DoFs (uniform_blocks) and every row is this rank's (one rank).
+      // Every slot has three DoFs (uniform_blocks); rows of another rank go through MatSetValues.
       for (int ki = 0; ki < ns; ++ki) {
         const SlotMap& mi = maps[ki];
         if (!mi.free) continue;
@@ -650,8 +650,14 @@ PetscErrorCode SystemAssembler::add_element_jacobian(int local, const ElementEnt
         for (int kj = 0; kj < ns; ++kj) {
           const SlotMap& mj = maps[kj];
           if (!mj.free) continue;
-          PetscCheck(row0[kj] >= 0, PETSC_COMM_SELF, PETSC_ERR_PLIB, "block matrix: an element block outside the plan");
-          Eigen::Map<Mat3>(fill_.values(row0[kj])) += A.template block<3, 3>(mi.offset, mj.offset);
+          if (row0[kj] >= 0) {
+            Eigen::Map<Mat3>(fill_.values(row0[kj])) += A.template block<3, 3>(mi.offset, mj.offset);
+          } else {
+            const PetscInt ri = dofs_.block_dof(mi.block), cj = dofs_.block_dof(mj.block);
+            const PetscInt rows[3] = {ri, ri + 1, ri + 2}, cols[3] = {cj, cj + 1, cj + 2};
+            const Eigen::Matrix<double, 3, 3, Eigen::RowMajor> block = A.template block<3, 3>(mi.offset, mj.offset);
+            PetscCall(MatSetValues(J, 3, rows, 3, cols, block.data(), ADD_VALUES));
+          }
         }
       }
       PetscFunctionReturn(0);

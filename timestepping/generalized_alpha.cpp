@@ -45,7 +45,8 @@ GeneralizedAlphaIntegrator::GeneralizedAlphaIntegrator(SystemAssembler& sa, Dyna
   PetscBool blocks = PETSC_TRUE;
   PetscCallAbort(comm, PetscOptionsGetBool(nullptr, nullptr, "-dyn_block_matrix", &blocks, nullptr));
   const bool native = ranks == 1 && !dense && !solver_chosen && !pc_chosen;
-  const bool block_matrix = native && blocks && sa_.uniform_blocks(3);
+  const bool subdomains = ranks > 1 && !solver_chosen && !pc_chosen && !ksp_chosen && sa_.model().constraints.empty();
+  const bool block_matrix = (native || subdomains) && blocks && sa_.uniform_blocks(3);
   PetscCallAbort(comm, sa_.create_matrix(&J_, block_matrix ? 3 : 1));
   PetscCallAbort(comm, TSSetI2Jacobian(ts_, J_, P_ ? P_ : J_, i2jacobian, this));
   PetscCallAbort(comm, TSAlpha2SetRadius(ts_, settings_.rho_infinity));
@@ -132,7 +133,7 @@ GeneralizedAlphaIntegrator::GeneralizedAlphaIntegrator(SystemAssembler& sa, Dyna
     // frontal machinery costs more than it saves on small fronts (640-bay lattice: 14 against
     // 42 ms; the full crane: docs/performance.md). A failed factorisation switches to UMFPACK.
     PetscCallAbort(comm, use_native_lu(ksp));
-  } else if (ranks > 1 && !solver_chosen && !pc_chosen && !ksp_chosen && sa_.model().constraints.empty()) {
+  } else if (subdomains) {
     // Without multipliers every subdomain of the iteration matrix is nonsingular and factors
     // without pivoting: GMRES on additive Schwarz with PETSc's LU per rank takes half of MUMPS's
     // time and beats one rank (lattice-bays, docs/performance.md). -pc_type lu: MUMPS again.

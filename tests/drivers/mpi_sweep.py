@@ -2,7 +2,8 @@
 """Every example and verification model on 1, 2 and 3 MPI ranks: the static equilibrium (where the
 model asks for one) and the first time steps must give the same state on every rank count.
 
-  mpi_sweep.py LATTICEDYN WORKDIR MODEL [--steps N] [--ranks 1 2 3] [--tolerance T] [--serial-solver TEXT] [--parallel-solver TEXT]
+  mpi_sweep.py LATTICEDYN WORKDIR MODEL [--steps N] [--ranks 1 2 3] [--tolerance T] [--serial-solver TEXT]
+               [--parallel-solver TEXT] [--same-newton]
 
 Runs `latticedyn run` (or `static` for a model without dynamics) with -ts_max_steps N on each
 rank count, reads the last recorded coordinate vector (/state/coordinates, in model order: the
@@ -11,11 +12,13 @@ run: max |q_n - q_1| <= T (1 + max |q_1|). The ranks differ in their linear solv
 or UMFPACK on one rank, MUMPS or GMRES on additive Schwarz on several) and in the order of their
 sums, so the Newton iterations end at different points inside their tolerance: T (default 1e-6) is
 that, not round-off. --serial-solver, --parallel-solver: the runs on one and on several ranks must
-report that linear solver.
+report that linear solver. --same-newton: each rank count must take as many Newton iterations as
+the first.
 Exit 0 when every rank count agrees, 1 with the differences otherwise.
 """
 import argparse
 import os
+import re
 import subprocess
 import sys
 
@@ -44,12 +47,15 @@ def main():
     ap.add_argument("--tolerance", type=float, default=1e-6)
     ap.add_argument("--parallel-solver", help="text the 'linear solver:' line must hold on several ranks")
     ap.add_argument("--serial-solver", help="text the 'linear solver:' line must hold on one rank")
+    ap.add_argument("--same-newton", action="store_true",
+                    help="every rank count takes as many Newton iterations as the first (exact Jacobians, "
+                         "accurate linear solves: a wrong Jacobian entry shows here before it shows in the state)")
     a = ap.parse_args()
     command = "run" if has_dynamics(a.model) else "static"
     name = os.path.splitext(os.path.basename(a.model))[0]
     env = dict(os.environ, OMP_NUM_THREADS="1", OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
                OMPI_MCA_rmaps_base_oversubscribe="1")
-    states = {}
+    states, newton = {}, {}
     for n in a.ranks:
         out = os.path.join(a.work, f"{name}_n{n}")
         cmd = [a.binary, command, a.model, "--output", out, "-ts_max_steps", str(a.steps), "-assembly_threads", "1"]
@@ -66,6 +72,8 @@ def main():
                 print(f"{name} on {n} rank(s): expected a linear solver with '{expected}', got {line}")
                 return 1
             print(f"{name} on {n} rank(s): {line}")
+        m = re.search(r"(\d+) Newton iterations", p.stdout)
+        newton[n] = int(m.group(1)) if m else None
         h5 = [f for f in os.listdir(out) if f.endswith(".h5")]
         with h5py.File(os.path.join(out, h5[0]), "r") as f:
             states[n] = f["state/coordinates"][-1, :]
@@ -73,6 +81,9 @@ def main():
     # Model order: the coordinates (m, rad, ...), then the multipliers (N, N m), each judged on its
     # own scale.
     ok = True
+    if a.same_newton:
+        print(f"{name}: Newton iterations per rank count {newton}")
+        ok = newton[a.ranks[0]] is not None and len(set(newton.values())) == 1
     ref = states[a.ranks[0]]
     nq = ref.size - multipliers
     for n in a.ranks[1:]:
