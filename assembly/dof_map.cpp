@@ -88,6 +88,9 @@ void DofMap::partition() {
   idx_t options[METIS_NOPTIONS];
   METIS_SetDefaultOptions(options);
   options[METIS_OPTION_SEED] = 1;  // every rank must compute the same partition
+  // Parts within 0.1 % of each other instead of METIS's 3 %: the slowest rank sets every step's
+  // pace (lattice-bays on 2 ranks: 1.029 of the mean before).
+  options[METIS_OPTION_UFACTOR] = 1;
   int status = METIS_ERROR;
   if (nv >= 2 * size_ && !adjncy.empty())
     status = METIS_PartGraphKway(&nvtxs, &ncon, xadj.data(), adjncy.data(), vwgt.data(), nullptr, nullptr,
