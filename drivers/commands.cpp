@@ -8,8 +8,11 @@
 #include "drivers/simulation.hpp"
 #include "timestepping/modal_analysis.hpp"
 
+#include <petscts.h>
+
 #include <filesystem>
 #include <fstream>
+#include <functional>
 
 #include <sys/resource.h>
 
@@ -49,6 +52,48 @@ std::string describe_model(const Model& m) {
                 m.title.c_str(), m.bodies.size() - 1, bodies.c_str(), m.joints.size(), m.constraints.size(),
                 m.num_multipliers(), m.loads.size(), m.drives.size(), m.num_free_dofs(), m.blocks.size());
   return buf;
+}
+
+// A solver type named by an option that PETSc does not know, as a message ("" if none): checked
+// before the results are opened, so that a mistyped -ts_type stops the run with nothing written.
+std::string unknown_solver_type(MPI_Comm comm) {
+  struct Check {
+    const char* option;
+    std::function<PetscErrorCode(const char*)> set;
+  };
+  TS ts = nullptr;
+  SNES snes = nullptr;
+  KSP ksp = nullptr;
+  PC pc = nullptr;
+  SNESLineSearch ls = nullptr;
+  TSAdapt adapt = nullptr;
+  std::string message;
+  PetscCallAbort(comm, TSCreate(comm, &ts));
+  PetscCallAbort(comm, TSGetSNES(ts, &snes));
+  PetscCallAbort(comm, TSGetAdapt(ts, &adapt));
+  PetscCallAbort(comm, SNESGetKSP(snes, &ksp));
+  PetscCallAbort(comm, SNESGetLineSearch(snes, &ls));
+  PetscCallAbort(comm, KSPGetPC(ksp, &pc));
+  const Check checks[] = {{"-ts_type", [&](const char* t) { return TSSetType(ts, t); }},
+                          {"-ts_adapt_type", [&](const char* t) { return TSAdaptSetType(adapt, t); }},
+                          {"-snes_type", [&](const char* t) { return SNESSetType(snes, t); }},
+                          {"-snes_linesearch_type", [&](const char* t) { return SNESLineSearchSetType(ls, t); }},
+                          {"-ksp_type", [&](const char* t) { return KSPSetType(ksp, t); }},
+                          {"-pc_type", [&](const char* t) { return PCSetType(pc, t); }}};
+  // PETSc's message for an unknown type is a traceback; here it is one line of ours.
+  PetscCallAbort(comm, PetscPushErrorHandler(PetscReturnErrorHandler, nullptr));
+  for (const Check& c : checks) {
+    char value[256];
+    PetscBool set = PETSC_FALSE;
+    if (PetscOptionsGetString(nullptr, nullptr, c.option, value, sizeof value, &set) || !set) continue;
+    if (c.set(value)) {
+      message = std::string("unknown solver type '") + value + "' for " + c.option + " (see its -help list)";
+      break;
+    }
+  }
+  PetscCallAbort(comm, PetscPopErrorHandler());
+  PetscCallAbort(comm, TSDestroy(&ts));
+  return message;
 }
 
 // Creates the writer on rank 0; a failure there (e.g. an unwritable folder) is shared with all
@@ -123,7 +168,11 @@ std::string where_results(const ResultWriter* w) {
 int command_solve(Simulation& sim, const CommandOptions& opt, MPI_Comm comm, bool statics, bool dynamics) {
   if (!opt.output_directory.empty()) sim.output.directory = opt.output_directory;
   print_root(comm, describe_model(sim.model));
-  std::string error;
+  std::string error = unknown_solver_type(comm);
+  if (!error.empty()) {
+    error_root(comm, error);
+    return kInputError;
+  }
   const auto opened = Clock::now();
   auto writer = open_writer(sim, opt, comm, &error);
   const double results = seconds_since(opened);

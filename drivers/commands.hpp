@@ -3,6 +3,7 @@
 // returns the process exit code.
 #pragma once
 
+#include "drivers/exit_codes.hpp"
 #include "io/model_reader.hpp"
 
 #include <petscsys.h>
@@ -11,7 +12,6 @@
 
 namespace latticedyn {
 
-enum ExitCode : int { kSuccess = 0, kSolverFailure = 1, kInputError = 2, kInternalError = 3 };
 
 struct CommandOptions {
   std::string model_path;

@@ -31,6 +31,18 @@ const char* kUsage =
 
 }  // namespace
 
+// Every way out of a run ends with a documented exit code. PETSc's PetscCallAbort and its
+// error handler on several ranks end a run with MPI_Abort(comm, PETSc error code) after printing
+// the error; through MPI's profiling interface that code becomes one of latticedyn's on its way
+// to PMPI_Abort (drivers/exit_codes.hpp).
+extern "C" int MPI_Abort(MPI_Comm comm, int errorcode) {
+  const latticedyn::ExitCode code = latticedyn::exit_code_for(errorcode);
+  if (errorcode > PETSC_ERR_MIN_VALUE)
+    std::fprintf(stderr, "latticedyn: stopped by PETSc error %d (its message above): exit code %d\n", errorcode,
+                 static_cast<int>(code));
+  return PMPI_Abort(comm, code);
+}
+
 int main(int argc, char** argv) {
   using namespace latticedyn;
   if (argc < 2 || !std::strcmp(argv[1], "help") || !std::strcmp(argv[1], "--help") || !std::strcmp(argv[1], "-h")) {
@@ -96,8 +108,9 @@ int main(int argc, char** argv) {
     }
     // Every rank reads the model; an input error is the same on all of them.
     Simulation sim = read_simulation(options.model_path);
-    // Options from the model first, then the command line again so that it wins.
-    if (!sim.petsc_options.empty()) {
+    // Options from the model first, then the command line again so that it wins; `check` applies
+    // none (they are only validated: io/petsc_option_policy.hpp).
+    if (!sim.petsc_options.empty() && command != "check") {
       PetscCallAbort(PETSC_COMM_WORLD, PetscOptionsInsertString(nullptr, sim.petsc_options.c_str()));
       PetscCallAbort(PETSC_COMM_WORLD, PetscOptionsInsert(nullptr, &pargc, &pargv, nullptr));
     }

@@ -44,14 +44,44 @@ InputNode& InputNode::operator=(const InputNode& o) {
 
 namespace {
 
+// Every key of every map a scalar: yaml-cpp accepts lists and maps as keys ([a]: 1), which no
+// model key can be, and converting one to text would throw far from its line.
+void check_keys(const YAML::Node& n, const std::string& path) {
+  if (n.IsMap()) {
+    for (auto it = n.begin(); it != n.end(); ++it) {
+      if (!it->first.IsScalar()) {
+        const YAML::Mark m = it->first.Mark();
+        throw InputError(path, m.line + 1, m.column + 1, "", "a key must be a plain name, not a list or a map");
+      }
+      check_keys(it->second, path);
+    }
+  } else if (n.IsSequence()) {
+    for (const YAML::Node& item : n) check_keys(item, path);
+  }
+}
+
 YAML::Node parse_file(const std::string& path) {
+  // Only regular files: a directory, a FIFO or a device would fail late or block without end.
+  std::error_code ec;
+  const auto status = std::filesystem::status(path, ec);
+  if (ec || !std::filesystem::exists(status)) throw InputError(path, 0, 0, "", "cannot open the model file (no such file)");
+  if (!std::filesystem::is_regular_file(status))
+    throw InputError(path, 0, 0, "", "the model must be a regular file (this is a directory, a pipe or a device)");
+  const auto bytes = std::filesystem::file_size(path, ec);
+  if (!ec && bytes > kMaxModelFileBytes)
+    throw InputError(path, 0, 0, "",
+                     "the model file has " + std::to_string(bytes) + " bytes, more than the limit of " +
+                         std::to_string(kMaxModelFileBytes));
+  YAML::Node root;
   try {
-    return YAML::LoadFile(path);
+    root = YAML::LoadFile(path);
   } catch (const YAML::BadFile&) {
     throw InputError(path, 0, 0, "", "cannot open the model file");
   } catch (const YAML::Exception& e) {
     throw InputError(path, e.mark.line + 1, e.mark.column + 1, "", "YAML syntax error: " + e.msg);
   }
+  check_keys(root, path);
+  return root;
 }
 
 }  // namespace
@@ -62,13 +92,20 @@ InputNode InputNode::load_file(const std::string& path) {
   if (!top.node_.IsMap() || !top.node_["base"]) return top;
   // Follow the chain of bases; a key of a later file replaces the same key of its base.
   std::vector<InputNode> chain{top};
-  std::set<std::string> seen{std::filesystem::weakly_canonical(path).string()};
+  // Error codes, not exceptions: a name too long for the file system is a bad input like any other.
+  auto canonical = [](const std::filesystem::path& p) {
+    std::error_code ec;
+    const std::filesystem::path c = std::filesystem::weakly_canonical(p, ec);
+    return ec ? p.lexically_normal().string() : c.string();
+  };
+  std::set<std::string> seen{canonical(path)};
   while (chain.back().node_.IsMap() && chain.back().node_["base"]) {
     const InputNode link = chain.back()["base"];
     const std::filesystem::path from = std::filesystem::path(link.file()).parent_path() / link.as_string();
-    if (!seen.insert(std::filesystem::weakly_canonical(from).string()).second)
-      link.fail("'" + from.string() + "' is already a base of this file (a cycle)");
-    if (!std::filesystem::is_regular_file(from)) link.fail("no model file '" + from.string() + "'");
+    if (!seen.insert(canonical(from)).second) link.fail("'" + from.string() + "' is already a base of this file (a cycle)");
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(from, ec))
+      link.fail("no model file '" + from.string() + "'" + (ec && ec != std::errc::no_such_file_or_directory ? " (" + ec.message() + ")" : ""));
     chain.push_back(InputNode(parse_file(from.string()), "", std::make_shared<const std::string>(from.string())));
     if (!chain.back().node_.IsMap()) chain.back().fail("expected a map of keys (a model file)");
   }
@@ -108,7 +145,8 @@ std::vector<std::string> split_path(const std::string& path) {
 std::optional<std::size_t> find_item(const YAML::Node& list, const std::string& key) {
   for (std::size_t i = 0; i < list.size(); ++i)
     if (list[i].IsMap() && list[i]["name"] && list[i]["name"].IsScalar() && list[i]["name"].Scalar() == key) return i;
-  if (!key.empty() && key.find_first_not_of("0123456789") == std::string::npos) {
+  // An index: digits, fewer than a list could have as items (std::stoul would throw beyond 2^64).
+  if (!key.empty() && key.size() <= 9 && key.find_first_not_of("0123456789") == std::string::npos) {
     const std::size_t i = std::stoul(key);
     if (i < list.size()) return i;
   }
@@ -187,11 +225,14 @@ std::shared_ptr<const std::string> InputNode::file_of(const std::string& key) co
 
 InputNode InputNode::load_string(const std::string& text, const std::string& name) {
   auto file = std::make_shared<const std::string>(name);
+  YAML::Node root;
   try {
-    return InputNode(YAML::Load(text), "", file);
+    root = YAML::Load(text);
   } catch (const YAML::Exception& e) {
     throw InputError(name, e.mark.line + 1, e.mark.column + 1, "", "YAML syntax error: " + e.msg);
   }
+  check_keys(root, name);
+  return InputNode(root, "", file);
 }
 
 void InputNode::fail(const std::string& message) const {

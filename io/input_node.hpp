@@ -6,6 +6,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <cstdint>
 #include <initializer_list>
 #include <map>
 #include <memory>
@@ -15,6 +16,9 @@
 #include <vector>
 
 namespace latticedyn {
+
+/// The largest model file read (bytes): a 1e6-unknown lattice takes 19 MB.
+inline constexpr std::uintmax_t kMaxModelFileBytes = std::uintmax_t{1} << 30;
 
 /// A bad input: carries its location; what() is the complete one-line message.
 class InputError : public std::runtime_error {

@@ -5,8 +5,10 @@
 #include "io/body_readers.hpp"
 #include "io/drive_reader.hpp"
 #include "io/lattice_readers.hpp"
+#include "io/petsc_option_policy.hpp"
 #include "io/reader_context.hpp"
 #include "io/recorded_state.hpp"
+#include "io/result_writer.hpp"
 
 #include <chrono>
 #include <filesystem>
@@ -96,6 +98,8 @@ void read_loads(ReaderContext& ctx, const InputNode& list) {
 void read_solver(const InputNode& n, Simulation& sim) {
   n.allow_only({"static", "dynamics", "petsc_options"});
   sim.petsc_options = n.get_string("petsc_options", "");
+  for (const PetscOptionToken& o : split_petsc_options(sim.petsc_options))
+    if (auto why = refused_model_option(o)) n["petsc_options"].fail(*why);
   if (auto s = n.get("static")) {
     s->allow_only({"enabled", "load_steps", "max_iterations", "max_cuts", "rtol", "atol", "time", "regularization"});
     sim.run_static = s->get_bool("enabled", true);
@@ -159,9 +163,10 @@ void read_solver(const InputNode& n, Simulation& sim) {
 void read_output(const ReaderContext& ctx, const InputNode& n, Simulation& sim) {
   n.allow_only({"directory", "name", "interval", "probes"});
   sim.output.directory = n.get_string("directory", sim.output.directory);
-  sim.output.name = n.get_string("name", sim.output.name);
-  if (sim.output.name.empty() || sim.output.name.find('/') != std::string::npos)
-    n["name"].fail("expected a file base name without '/'");
+  if (auto k = n.get("name")) {
+    sim.output.name = k->as_string();
+    if (auto why = base_name_problem(sim.output.name)) k->fail(*why);
+  }
   sim.output.interval = n.get_non_negative("interval", 0.0);
   if (auto p = n.get("probes"))
     for (const InputNode& j : p->items()) sim.output.probe_joints.push_back(ctx.joint(j));
@@ -201,7 +206,7 @@ Simulation read(const InputNode& root, const std::string& source) {
   sim.source = source;
   const std::string stem = std::filesystem::path(source).stem().string();
   sim.output.directory = "results/" + stem;
-  sim.output.name = stem.empty() ? "results" : stem;
+  sim.output.name = stem.empty() || base_name_problem(stem) ? "results" : stem;
 
   ReaderContext ctx;
   ctx.builder.set_title(root.get_string("title", stem));

@@ -93,10 +93,21 @@ struct ResultWriter::Impl {
            std::function<void(const ModelState&, double*)> fill, bool single = false);
 };
 
+std::optional<std::string> base_name_problem(const std::string& name) {
+  if (name.empty()) return "expected a file base name, not an empty one";
+  if (name.size() > kMaxBaseNameBytes)
+    return "a file base name of at most " + std::to_string(kMaxBaseNameBytes) + " bytes (this one has " +
+           std::to_string(name.size()) + ")";
+  if (name[0] == '.') return "a file base name that does not start with '.' (no hidden files, no '..')";
+  for (const char c : name)
+    if (c == '/' || c == '\\' || c == ':' || static_cast<unsigned char>(c) < 0x20 || c == 0x7f)
+      return "a file base name without '/', '\\', ':' or control characters";
+  return std::nullopt;
+}
+
 ResultWriter::Impl::Impl(const Model& m, ResultWriterOptions o) : model(m), opts(std::move(o)) {
-  if (opts.base_name.empty() || opts.base_name.find_first_of("/:") != std::string::npos)
-    throw std::invalid_argument("ResultWriter: base name '" + opts.base_name +
-                                "' must be non-empty and contain no '/' or ':'");
+  if (auto why = base_name_problem(opts.base_name))
+    throw std::invalid_argument("ResultWriter: base name '" + opts.base_name + "': " + *why);
   for (int j : opts.probe_joints)
     if (j < 0 || j >= static_cast<int>(model.joints.size()))
       throw std::invalid_argument("ResultWriter: probe joint " + std::to_string(j) +
@@ -113,6 +124,10 @@ ResultWriter::Impl::Impl(const Model& m, ResultWriterOptions o) : model(m), opts
   std::error_code ec;
   fs::create_directories(dir, ec);
   if (ec) throw std::runtime_error("ResultWriter: cannot create directory '" + dir.string() + "': " + ec.message());
+  // Written without following symbolic links: a link at a result's name is replaced by the new
+  // file, its target left alone.
+  for (const fs::path& p : {h5, xdmf, csv})
+    if (fs::is_symlink(fs::symlink_status(p, ec))) fs::remove(p, ec);
 
   for (int b = 0; b < static_cast<int>(model.blocks.size()); ++b) {
     switch (model.blocks[b].kind) {

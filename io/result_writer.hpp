@@ -6,16 +6,26 @@
 
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 namespace latticedyn {
 
+/// The longest output base name (bytes): with "_probes.csv" it stays under the 255 bytes a file
+/// name may have.
+inline constexpr std::size_t kMaxBaseNameBytes = 200;
+
+/// Why `name` cannot be an output base name, or nothing: empty, longer than kMaxBaseNameBytes,
+/// starting with '.', or holding '/', '\\', ':' (the XDMF addresses data as "file:/path") or
+/// control characters. Names never leave their folder.
+std::optional<std::string> base_name_problem(const std::string& name);
+
 /// Where and what to write. Files: <directory>/<base_name>.h5, <base_name>.xdmf and
 /// <base_name>_probes.csv.
 struct ResultWriterOptions {
   std::string directory;               ///< created if missing; empty: the working directory
-  std::string base_name = "results";   ///< no '/' or ':' (the XDMF addresses data as "file:/path")
+  std::string base_name = "results";   ///< see base_name_problem
   std::vector<int> probe_joints;       ///< model joint indices written to the CSV, in this order
 };
 

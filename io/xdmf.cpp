@@ -2,6 +2,9 @@
 // references, which XDMF readers support unevenly; the extents they declare grow with every step.
 #include "io/xdmf.hpp"
 
+#include <fcntl.h>
+#include <unistd.h>
+
 #include <cerrno>
 #include <charconv>
 #include <cstdio>
@@ -109,8 +112,17 @@ void replace_file(const std::filesystem::path& path, const std::string& text) {
   };
   std::filesystem::path tmp = path;
   tmp += ".tmp";
-  std::FILE* f = std::fopen(tmp.c_str(), "wb");
-  if (!f) fail("create", tmp, errno);
+  // A new file of our own: whatever sits at the name (a stale copy, a symbolic link) is removed,
+  // not written through.
+  if (::unlink(tmp.c_str()) != 0 && errno != ENOENT) fail("remove", tmp, errno);
+  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
+  if (fd < 0) fail("create", tmp, errno);
+  std::FILE* f = ::fdopen(fd, "wb");
+  if (!f) {
+    const int err = errno;
+    ::close(fd);
+    fail("create", tmp, err);
+  }
   const bool written = std::fwrite(text.data(), 1, text.size(), f) == text.size();
   const int write_errno = errno;
   if (std::fclose(f) != 0) fail("write", tmp, errno);

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <hdf5.h>
 
+#include <sys/stat.h>
 #include <sys/wait.h>
 
 #include <array>
@@ -193,6 +194,105 @@ TEST_F(Cli, StaticFailureOfAnUnsupportedBodyIsReported) {
   EXPECT_EQ(o.code, 1) << o.out << o.err;
   EXPECT_NE(o.err.find("latticedyn: error: static equilibrium failed"), std::string::npos) << o.err;
   EXPECT_NE(o.err.find("singular"), std::string::npos) << o.err;
+}
+
+// Bad input that once escaped as "internal error" (exit 3) or blocked: each is exit 2 with where.
+TEST_F(Cli, InputThatIsNotAModelIsExitTwo) {
+  write("pendulum.yaml", kPendulum);
+  const std::string long_name(300, 'x');
+  struct Case {
+    std::string args, text, expected;
+  } cases[] = {
+      {"check " + dir_.string(), "", "must be a regular file"},                               // a directory
+      {"check listkey.yaml", "[a, b]: 1\n", "listkey.yaml:1:1: a key must be a plain name"},  // a list as a key
+      {"check nested.yaml", "title: t\nbodies:\n  - {? {a: 1} : 2}\n", "nested.yaml:3:"},  // a map as a key, deeper
+      {"check longbase.yaml", "base: " + long_name + ".yaml\n", "longbase.yaml:1:7: base: no model file"},
+  };
+  for (const Case& c : cases) {
+    if (!c.text.empty()) write(c.args.substr(6), c.text);
+    const Outcome o = run(c.args);
+    EXPECT_EQ(o.code, 2) << c.args << ": " << o.err;
+    EXPECT_NE(o.err.find(c.expected), std::string::npos) << c.args << ": " << o.err;
+  }
+  ASSERT_EQ(::mkfifo((dir_ / "fifo.yaml").c_str(), 0600), 0);
+  const Outcome fifo = run("check fifo.yaml");  // would block for ever in the YAML reader
+  EXPECT_EQ(fifo.code, 2) << fifo.err;
+  EXPECT_NE(fifo.err.find("regular file"), std::string::npos) << fifo.err;
+}
+
+// A model file is untrusted: its PETSc options may steer the solvers but not reach files; check
+// applies none of them; output names stay in their folder.
+TEST_F(Cli, ModelOptionsCannotReachFiles) {
+  const std::string stolen = (dir_ / "written_by_the_model.txt").string();
+  const std::string refused[] = {"-log_view :" + stolen, "-options_file /etc/passwd", "-ksp_view_mat binary:J.bin",
+                                 "-snes_monitor_lg_residualnorm", "-ts_save_trajectory", "-info", "-log_view"};
+  for (const std::string& options : refused) {
+    write("opts.yaml", replaced(kPendulum, "solver:\n", "solver:\n  petsc_options: \"" + options + "\"\n"));
+    for (const char* cmd : {"check", "run"}) {
+      const Outcome o = run(std::string(cmd) + " opts.yaml --output out");
+      EXPECT_EQ(o.code, 2) << options << ": " << o.err;
+      EXPECT_NE(o.err.find("solver.petsc_options"), std::string::npos) << o.err;
+      EXPECT_FALSE(fs::exists(stolen));
+      EXPECT_FALSE(fs::exists(dir_ / "out"));
+    }
+  }
+  // Allowed: solver settings and monitors on the terminal. check applies none: -options_left
+  // from the model would report the unused -no_such_option at the end of a run, not of a check.
+  write("opts.yaml", replaced(kPendulum, "solver:\n",
+                              "solver:\n  petsc_options: \"-snes_monitor ascii -options_left -no_such_option 1\"\n"));
+  const Outcome checked = run("check opts.yaml");
+  EXPECT_EQ(checked.code, 0) << checked.err;
+  EXPECT_EQ((checked.out + checked.err).find("no_such_option"), std::string::npos) << checked.out << checked.err;
+  const Outcome ran = run("run opts.yaml --output out");
+  EXPECT_EQ(ran.code, 0) << ran.err;
+  EXPECT_NE((ran.out + ran.err).find("no_such_option"), std::string::npos) << ran.out << ran.err;
+  EXPECT_NE(ran.out.find("SNES Function norm"), std::string::npos);
+  // The command line is the user's own: a file there is fine.
+  write("pendulum.yaml", kPendulum);
+  EXPECT_EQ(run("run pendulum.yaml --output out2 -log_view :" + stolen).code, 0);
+  EXPECT_TRUE(fs::exists(stolen));
+  for (const char* name : {"..", ".", ".hidden", "a:b", "back\\\\slash"}) {
+    write("named.yaml", replaced(kPendulum, "output:\n", std::string("output:\n  name: \"") + name + "\"\n"));
+    const Outcome o = run("run named.yaml --output out3");
+    EXPECT_EQ(o.code, 2) << name << ": " << o.err;
+    EXPECT_NE(o.err.find("output.name"), std::string::npos) << o.err;
+  }
+  EXPECT_FALSE(fs::exists(dir_ / "out3"));
+}
+
+// Results never follow a symbolic link: a link at a result's name is replaced, its target kept.
+TEST_F(Cli, ResultsReplaceSymbolicLinksInsteadOfWritingThroughThem) {
+  write("pendulum.yaml", kPendulum);
+  const fs::path target = write("precious.txt", "keep me\n");
+  fs::create_directories(dir_ / "out");
+  for (const char* name : {"pendulum.h5", "pendulum.xdmf", "pendulum_probes.csv", "pendulum.xdmf.tmp"})
+    fs::create_symlink(target, dir_ / "out" / name);
+  const Outcome o = run("run pendulum.yaml --output out");
+  ASSERT_EQ(o.code, 0) << o.err;
+  EXPECT_EQ(slurp(target), "keep me\n");
+  for (const char* name : {"pendulum.h5", "pendulum.xdmf", "pendulum_probes.csv"})
+    EXPECT_FALSE(fs::is_symlink(dir_ / "out" / name)) << name;
+}
+
+// Exit codes are 0, 1, 2, 3 only: a solver type PETSc does not know is bad input, found before
+// anything is written; on two ranks too.
+TEST_F(Cli, UnknownSolverTypesAreExitTwoWithNothingWritten) {
+  write("pendulum.yaml", kPendulum);
+  for (const char* option : {"-ts_type nonexistent", "-snes_type nonexistent", "-ksp_type nonexistent",
+                             "-pc_type nonexistent", "-snes_linesearch_type nonexistent"}) {
+    const Outcome o = run(std::string("run pendulum.yaml --output out ") + option);
+    EXPECT_EQ(o.code, 2) << option << ": " << o.err;
+    EXPECT_NE(o.err.find("unknown solver type 'nonexistent'"), std::string::npos) << o.err;
+    EXPECT_FALSE(fs::exists(dir_ / "out" / "pendulum.h5")) << option;
+  }
+  const Outcome two = run("run pendulum.yaml --output out -ts_type nonexistent", latticedyn::testing::mpiexec(MPIEXEC, 2));
+  EXPECT_EQ(two.code, 2) << two.err;
+  // A PETSc error past the checks (here an unknown sub-solver's type, met when the
+  // preconditioner is set up) still ends with one of the four codes, PETSc's message kept.
+  const Outcome deep = run("run pendulum.yaml --output out -pc_factor_mat_ordering_type nonexistent -dyn_dense_below 0");
+  EXPECT_EQ(deep.code, 2) << deep.out << deep.err;
+  EXPECT_NE(deep.err.find("PETSC ERROR"), std::string::npos) << deep.err;
+  EXPECT_NE(deep.err.find("exit code 2"), std::string::npos) << deep.err;
 }
 
 TEST_F(Cli, InputErrorOnTwoRanksEndsBothWithoutHanging) {

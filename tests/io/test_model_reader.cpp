@@ -283,6 +283,9 @@ TEST_F(BaseFiles, OverridesReplaceValuesAtDottedPaths) {
     EXPECT_NE(std::string(e.what()).find("without an item named 'elbow'"), std::string::npos) << e.what();
   }
   EXPECT_THROW((void)InputNode::load_file(path, {override_at("solvr.static.load_steps", YAML::Node(2))}), InputError);
+  // An index beyond any list (std::stoul would throw out of range): an input error at the origin.
+  EXPECT_THROW((void)InputNode::load_file(path, {override_at("bodies.99999999999999999999999.mass", YAML::Node(1.0))}),
+               InputError);
 }
 
 }  // namespace
