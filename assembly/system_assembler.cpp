@@ -16,6 +16,7 @@
 
 #include <algorithm>
 #include <array>
+#include <mutex>
 #include <cmath>
 #include <stdexcept>
 #include <typeinfo>
@@ -168,6 +169,12 @@ PetscErrorCode SystemAssembler::create_vector(Vec* v) const {
   PetscFunctionReturn(0);
 }
 
+void SystemAssembler::record_evaluation_error(const std::string& what) {
+  static std::mutex guard;  // element evaluations may run on several threads
+  std::lock_guard<std::mutex> lock(guard);
+  if (evaluation_error_.empty()) evaluation_error_ = what;
+}
+
 bool SystemAssembler::uniform_blocks(int block_size) const {
   if (dofs_.num_multipliers() > 0) return false;
   for (const DofBlock& b : model_.blocks)
@@ -301,13 +308,21 @@ PetscErrorCode SystemAssembler::residual(const EvaluationPoint& at, const Evalua
   const std::vector<int>& elements = dofs_.local_elements();
   const LogEvents& events = log_events();
   PetscCall(PetscLogEventBegin(events.element_residual, 0, 0, 0, 0));
+  evaluation_error_.clear();
   auto evaluate = [&](int first, VecX* out) {
     const ElementRun run = gather_run(model_, elements, first, run_length_[first], state_);
-    if (run.count == 1) {
-      out[0].resize(run.elements[0]->num_dofs());
-      run.elements[0]->residual(run.states[0], ctx, out[0]);
-    } else {
-      run.elements[0]->residual_batch(run.element_span(), run.state_span(), ctx, {out, run.size()});
+    try {
+      if (run.count == 1) {
+        out[0].resize(run.elements[0]->num_dofs());
+        run.elements[0]->residual(run.states[0], ctx, out[0]);
+      } else {
+        run.elements[0]->residual_batch(run.element_span(), run.state_span(), ctx, {out, run.size()});
+      }
+    } catch (const std::domain_error& e) {
+      // Outside an element's domain (a rope's rest length through zero): NaN marks the residual
+      // not finite, so the integrator cuts the step instead of the run ending in an exception.
+      record_evaluation_error(e.what());
+      for (int k = 0; k < run.count; ++k) out[k].setConstant(run.elements[k]->num_dofs(), std::nan(""));
     }
   };
   parallel_for_each(static_cast<int>(threaded_runs_.size()), threads_, [&](int k) {
@@ -433,12 +448,22 @@ PetscErrorCode SystemAssembler::jacobian(const EvaluationPoint& at, const Evalua
   const std::vector<int>& elements = dofs_.local_elements();
   const LogEvents& events = log_events();
   PetscCall(PetscLogEventBegin(events.element_jacobian, 0, 0, 0, 0));
+  evaluation_error_.clear();
   auto evaluate = [&](int first, ElementTangents* out) {
     const ElementRun run = gather_run(model_, elements, first, run_length_[first], state_);
-    if (run.count == 1)
-      run.elements[0]->tangents(run.states[0], ctx, out[0]);
-    else
-      run.elements[0]->tangents_batch(run.element_span(), run.state_span(), ctx, {out, run.size()});
+    try {
+      if (run.count == 1)
+        run.elements[0]->tangents(run.states[0], ctx, out[0]);
+      else
+        run.elements[0]->tangents_batch(run.element_span(), run.state_span(), ctx, {out, run.size()});
+    } catch (const std::domain_error& e) {
+      record_evaluation_error(e.what());
+      for (int k = 0; k < run.count; ++k) {
+        out[k].resize(run.elements[k]->num_dofs());
+        for (auto* m : {&out[k].K, &out[k].C, &out[k].M}) m->setConstant(std::nan(""));
+        out[k].residual.setConstant(std::nan(""));
+      }
+    }
   };
   parallel_for_each(static_cast<int>(threaded_runs_.size()), threads_, [&](int k) {
     evaluate(threaded_runs_[k], &element_tangents_[buffer_of_[threaded_runs_[k]]]);

@@ -69,8 +69,13 @@ class SystemAssembler {
   /// Initial coordinates and rates (rotation-vector rates) from the model; multipliers zero.
   PetscErrorCode initial_state(Vec U, Vec V) const;
 
-  /// F = residual; `finite` (collective) is false when any entry is NaN or infinite.
+  /// F = residual; `finite` (collective) is false when any entry is NaN or infinite, which
+  /// includes an element evaluated outside its domain (evaluation_error).
   PetscErrorCode residual(const EvaluationPoint& at, const EvaluationSettings& how, Vec F, PetscBool* finite);
+  /// What the last residual or Jacobian met outside an element's domain on this rank (a rope's
+  /// rest length through zero: the element's std::domain_error), empty if nothing; that
+  /// element's entries are NaN then.
+  const std::string& evaluation_error() const { return evaluation_error_; }
   /// J = cq dF/dU + cv dF/dV + ca dF/dA; multiplier columns enter with uc_per_u.
   PetscErrorCode jacobian(const EvaluationPoint& at, const EvaluationSettings& how, double cq, double cv,
                           double ca, Mat J);
@@ -150,6 +155,8 @@ class SystemAssembler {
   std::vector<int> threaded_runs_;  // first positions of the threaded runs
   std::vector<VecX> element_residuals_;            // per threaded element
   std::vector<ElementTangents> element_tangents_;  // per threaded element
+  std::string evaluation_error_;
+  void record_evaluation_error(const std::string& what);
   MatrixFill fill_;  // where the elements' blocks sit in the Jacobian, after its first assembly
 };
 

@@ -4,6 +4,7 @@
 
 #include "drivers/batch_runner.hpp"
 #include "drivers/control_pipeline.hpp"
+#include "drivers/interrupt.hpp"
 #include "drivers/observers.hpp"
 #include "drivers/simulation.hpp"
 #include "timestepping/modal_analysis.hpp"
@@ -193,10 +194,12 @@ int command_solve(Simulation& sim, const CommandOptions& opt, MPI_Comm comm, boo
   OutputObserver out(sa, writer.get(), sim.output.interval, t1);
   ProgressObserver progress(comm, t0, t1);
   FaultInjection fault(comm);
+  InterruptObserver interrupt(comm);
   ObserverList observers;
   observers.add(&out);
   observers.add(&progress);
   observers.add(&fault);
+  observers.add(&interrupt);
   SimulationOutcome outcome;
   PetscCallAbort(comm, simulate(sim, sa, U, V, statics, dynamics, &observers, &outcome));
   progress.done();
@@ -220,12 +223,15 @@ int command_solve(Simulation& sim, const CommandOptions& opt, MPI_Comm comm, boo
                   "dynamics %s: %ld steps (%ld rejected), %ld Newton iterations (%.2f per step), %ld Jacobians, %ld "
                   "rotation rescales, wall %.3g s (%.3g x real time), %d outputs; largest constraint violation over the "
                   "run: %s\n",
-                  r.completed ? "completed" : "FAILED", r.steps, r.rejected_steps, r.newton_iterations,
+                  r.completed ? "completed" : r.interrupted ? "INTERRUPTED" : "FAILED", r.steps, r.rejected_steps, r.newton_iterations,
                   r.steps ? static_cast<double>(r.newton_iterations) / r.steps : 0.0, r.jacobians, r.rotation_rescales,
                   r.wall_seconds,
                   r.wall_seconds > 0 ? simulated / r.wall_seconds : 0.0, out.written(),
                   describe_violation(sim.model, r.max_violation, r.violation_constraint).c_str());
-    if (!r.completed) error_root(comm, r.message);
+    if (r.interrupted)
+      error_root(comm, std::string(r.message) + " by " + interrupt.signal_name() + "; results written up to there");
+    else if (!r.completed)
+      error_root(comm, r.message);
     text += buf;
     if (!r.linear_solver.empty()) text += "linear solver: " + r.linear_solver + "\n";
   }
@@ -233,6 +239,7 @@ int command_solve(Simulation& sim, const CommandOptions& opt, MPI_Comm comm, boo
   print_root(comm, text + where_results(writer.get()));
   VecDestroy(&U);
   VecDestroy(&V);
+  if (outcome.dynamics_run && outcome.dynamics.interrupted) return interrupt.exit_code();
   return outcome.ok() ? kSuccess : kSolverFailure;
 }
 

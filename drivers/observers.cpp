@@ -101,4 +101,10 @@ PetscErrorCode ObserverList::on_step(const StepInfo& info) {
   PetscFunctionReturn(0);
 }
 
+bool ObserverList::stop_requested() {
+  bool stop = false;
+  for (StepObserver* o : observers_) stop = o->stop_requested() || stop;
+  return stop;
+}
+
 }  // namespace latticedyn

@@ -66,6 +66,8 @@ class ObserverList final : public StepObserver {
  public:
   void add(StepObserver* o) { observers_.push_back(o); }
   PetscErrorCode on_step(const StepInfo& info) override;
+  /// Any of them (each asked: the question is collective).
+  bool stop_requested() override;
 
  private:
   std::vector<StepObserver*> observers_;

@@ -6,6 +6,7 @@
 #include "elements/energy_ad.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 
 namespace latticedyn {
@@ -70,8 +71,11 @@ void Cable::inertia_and_gravity(std::span<const SlotState<double>> s, const Elem
                                 ElementTangents* t) const {
   const DriveValue L = rest_length(ctx.time);
   if (!(L.value > 0))
-    throw std::domain_error("rope rest length " + std::to_string(L.value) + " m at t = " + std::to_string(ctx.time) +
-                            " s is not positive");
+  {
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "rope rest length %.6g m at t = %.6g s is not positive", L.value, ctx.time);
+    throw std::domain_error(buf);
+  }
   const double m = rho_a_ * L.value;
   // Hermite coordinates X = [r1, L0 r1', r2, L0 r2'] and their second time derivative.
   const double c[4] = {1.0, L.value, 1.0, L.value};

@@ -148,7 +148,9 @@ void read_rope(ReaderContext& ctx, const InputNode& n, const std::string& name) 
   if (n.has("rest_length") && n.has("rest_length_drive"))
     n["rest_length_drive"].fail("give either rest_length or rest_length_drive, not both");
   if (auto d = n.get("rest_length_drive")) {
-    const Drive& drive = ctx.builder.peek().drives[ctx.drive(*d)];
+    const int drive_index = ctx.drive(*d);
+    const Drive& drive = ctx.builder.peek().drives[drive_index];
+    ctx.driven_rest_lengths.push_back({*d, drive_index, 1.0});
     p.drive = drive;
     p.fraction = 1.0 / g.elements;
     L0 = drive.evaluate(0.0).value;

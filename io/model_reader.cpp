@@ -10,7 +10,9 @@
 #include "io/recorded_state.hpp"
 #include "io/result_writer.hpp"
 
+#include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <filesystem>
 #include <map>
 #include <optional>
@@ -198,6 +200,31 @@ void read_start_state(const InputNode& n, Simulation& sim) {
   sim.statics.warm_start = true;
 }
 
+// Every driven rest length stays positive from the statics' time to the end of the run: sampled
+// at 10,001 points and the ends of the span (the drives are smooth between their breakpoints).
+void check_rest_lengths(const ReaderContext& ctx, const Simulation& sim) {
+  double t0 = sim.run_static ? sim.statics.time : sim.dynamics.t_start;
+  double t1 = t0;
+  if (sim.run_dynamics) {
+    t0 = std::min(t0, sim.dynamics.t_start);
+    t1 = std::max(t1, sim.dynamics.t_end);
+  }
+  constexpr int kSamples = 10000;
+  for (const ReaderContext::DrivenRestLength& d : ctx.driven_rest_lengths) {
+    const Drive& drive = ctx.builder.peek().drives[d.drive];
+    for (int k = 0; k <= kSamples; ++k) {
+      const double t = t0 + (t1 - t0) * k / kSamples;
+      const double L = d.fraction * drive.evaluate(t).value;
+      if (!(L > 0)) {
+        char buf[200];
+        std::snprintf(buf, sizeof buf, "the drive takes the rope's rest length to %.4g m at t = %.4g s (the run spans %g to %g s); expected > 0 throughout",
+                      L, t, t0, t1);
+        d.key.fail(buf);
+      }
+    }
+  }
+}
+
 Simulation read(const InputNode& root, const std::string& source) {
   if (!root.is_map()) root.fail("a model file is a map of keys (title, gravity, bodies, ...)");
   root.allow_only({"title", "gravity", "materials", "sections", "truss_sections", "truss_bodies", "drives", "ground",
@@ -234,6 +261,7 @@ Simulation read(const InputNode& root, const std::string& source) {
   if (auto l = root.get("loads")) read_loads(ctx, *l);
   if (auto s = root.get("solver")) read_solver(*s, sim);
   if (auto o = root.get("output")) read_output(ctx, *o, sim);
+  check_rest_lengths(ctx, sim);
 
   try {
     sim.model = ctx.builder.build();

@@ -43,6 +43,15 @@ class ReaderContext {
   };
   std::map<std::string, TrussSectionParts> truss_parts;
 
+  /// A rope's rest length in motion: its drive key, checked over the run's time span once the
+  /// solver settings are read (a rest length through zero stops a run half way).
+  struct DrivenRestLength {
+    InputNode key;
+    int drive = -1;
+    double fraction = 1.0;  ///< rest length = fraction * drive value
+  };
+  std::vector<DrivenRestLength> driven_rest_lengths;
+
   /// A material given by name (from `materials`) or inline as a map.
   Material material(const InputNode& n) const;
   /// A section given by name (from `sections`) or inline as a map.

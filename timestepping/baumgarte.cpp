@@ -152,6 +152,8 @@ PetscErrorCode BaumgarteIntegrator::post_step(TS ts) {
   PetscFunctionBeginUser;
   PetscCall(TSGetApplicationContext(ts, &ctx));
   auto* self = static_cast<BaumgarteIntegrator*>(ctx);
+  // A stop asked for at the last monitor ends the run after this step (TSStep resets the reason).
+  if (self->report_->interrupted) PetscCall(TSSetConvergedReason(ts, TS_CONVERGED_USER));
   PetscCall(TSGetSolution(ts, &X));
   PetscCall(self->unpack(X, self->U_, self->V_));
   PetscCall(self->sa_.rescale_rotations(self->U_, nullptr, Parametrization::velocity_variables, &changed));
@@ -201,10 +203,12 @@ PetscErrorCode BaumgarteIntegrator::run(Vec U, Vec V, StepObserver* observer, Dy
   PetscCall(TSGetConvergedReason(ts_, &reason));
   PetscCall(TSGetTime(ts_, &t));
   report->time_reached = t;
-  report->completed = reason > 0;
+  report->completed = reason > 0 && !report->interrupted;
   char buf[512];
   if (report->completed)
     std::snprintf(buf, sizeof buf, "reached t = %.6g s", t);
+  else if (report->interrupted)
+    std::snprintf(buf, sizeof buf, "dynamics interrupted at t = %.6g s after step %ld", t, report->steps);
   else
     std::snprintf(buf, sizeof buf, "dynamics stopped at t = %.6g s (step %ld): TS %s", t, report->steps,
                   TSConvergedReasons[reason]);

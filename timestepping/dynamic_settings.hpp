@@ -32,6 +32,7 @@ struct DynamicSettings {
 
 struct DynamicReport {
   bool completed = false;
+  bool interrupted = false;       ///< stopped on request after an accepted step (StepObserver::stop_requested)
   double time_reached = 0.0;
   long steps = 0;
   long newton_iterations = 0;

@@ -201,11 +201,12 @@ PetscErrorCode GeneralizedAlphaIntegrator::i2function(TS ts, PetscReal t, Vec U,
     SNES snes;
     PetscCall(TSGetSNES(ts, &snes));
     PetscCall(SNESSetFunctionDomainError(snes));
+    if (!self->sa_.evaluation_error().empty()) self->domain_error_ = self->sa_.evaluation_error();
   }
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode GeneralizedAlphaIntegrator::i2jacobian(TS, PetscReal t, Vec U, Vec V, Vec A, PetscReal shift_v,
+PetscErrorCode GeneralizedAlphaIntegrator::i2jacobian(TS ts, PetscReal t, Vec U, Vec V, Vec A, PetscReal shift_v,
                                                       PetscReal shift_a, Mat J, Mat, void* ctx) {
   auto* self = static_cast<GeneralizedAlphaIntegrator*>(ctx);
   EvaluationPoint at;
@@ -224,6 +225,16 @@ PetscErrorCode GeneralizedAlphaIntegrator::i2jacobian(TS, PetscReal t, Vec U, Ve
     PetscFunctionReturn(0);
   }
   PetscCall(self->sa_.jacobian(at, how, 1.0, shift_v, inertia * shift_a, J));
+  // An element outside its domain (on any rank): the Newton solve fails and the step is cut.
+  int outside = self->sa_.evaluation_error().empty() ? 0 : 1, anywhere = 0;
+  PetscCallMPI(MPI_Allreduce(&outside, &anywhere, 1, MPI_INT, MPI_MAX, PetscObjectComm(reinterpret_cast<PetscObject>(ts))));
+  if (anywhere) {
+    if (outside) self->domain_error_ = self->sa_.evaluation_error();
+    SNES snes;
+    PetscCall(TSGetSNES(ts, &snes));
+    PetscCall(SNESSetJacobianDomainError(snes));
+    self->reuse_count_ = self->settings_.jacobian_reuse;  // never reuse this matrix
+  }
   if (self->P_) PetscCall(MatCopy(J, self->P_, DIFFERENT_NONZERO_PATTERN));
   self->reuse_shift_v_ = shift_v;
   self->reuse_shift_a_ = inertia * shift_a;
@@ -277,6 +288,9 @@ PetscErrorCode GeneralizedAlphaIntegrator::post_step(TS ts) {
     PetscCall(TSGetTimeStep(ts, &dt));
     if (dt < self->settings_.time_step) PetscCall(TSSetTimeStep(ts, self->settings_.time_step));
   }
+  // A stop asked for at the last monitor: here, after TSStep (which resets the reason) and before
+  // TSSolve looks at it, so the run ends after this step.
+  if (self->report_->interrupted) PetscCall(TSSetConvergedReason(ts, TS_CONVERGED_USER));
   PetscCall(self->sa_.rescale_rotations(U, V, Parametrization::rotation_vector_rates, &changed));
   if (changed) {
     // TSALPHA2 keeps the acceleration internally; a restart recomputes it for the new coordinates.
@@ -333,10 +347,12 @@ PetscErrorCode GeneralizedAlphaIntegrator::run(Vec U, Vec V, StepObserver* obser
   PetscReal t;
   PetscCall(TSGetTime(ts_, &t));
   report->time_reached = t;
-  report->completed = reason > 0;
+  report->completed = reason > 0 && !report->interrupted;
   char buf[768];
   if (report->completed) {
     std::snprintf(buf, sizeof buf, "reached t = %.6g s", t);
+  } else if (report->interrupted) {
+    std::snprintf(buf, sizeof buf, "dynamics interrupted at t = %.6g s after step %ld", t, report->steps);
   } else {
     SNES snes;
     SNESConvergedReason sr;
@@ -356,6 +372,8 @@ PetscErrorCode GeneralizedAlphaIntegrator::run(Vec U, Vec V, StepObserver* obser
                   describe_violation(sa_.model(), violation, where).c_str());
   }
   report->message = buf;
+  if (!report->completed && !domain_error_.empty())
+    report->message += "; an element was evaluated outside its domain: " + domain_error_;
   PetscInt krylov = 0, solves = 0;
   PetscCall(TSGetKSPIterations(ts_, &krylov));
   PetscCall(TSGetSNESIterations(ts_, &solves));

@@ -50,6 +50,7 @@ class GeneralizedAlphaIntegrator {
   int reuse_count_ = 0;                                 // Newton iterations it has served
   double last_fnorm_ = 0.0;                             // residual norm of the last Newton iterate
   long jacobians_ = 0;                                  // Jacobians assembled in the run
+  std::string domain_error_;                            // the last element evaluated outside its domain
   PetscBool predictor_ = PETSC_TRUE;                    // -dyn_predictor: Newton starts from a Taylor guess
   TS ts_ = nullptr;
   KSP ksp_ = nullptr;  // the Newton solver's linear solver (ts_ owns it)

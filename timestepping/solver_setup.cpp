@@ -159,7 +159,10 @@ PetscErrorCode record_step(SystemAssembler& sa, const StepInfo& info, DynamicRep
   r->time_reached = info.time;
   r->newton_iterations = info.newton_iterations;
   r->rejected_steps = info.rejected_steps;
-  if (observer) PetscCall(observer->on_step(info));
+  if (observer) {
+    PetscCall(observer->on_step(info));
+    if (observer->stop_requested()) r->interrupted = true;
+  }
   PetscFunctionReturn(0);
 }
 

@@ -49,10 +49,14 @@ class StepObserver {
  public:
   virtual ~StepObserver() = default;
   virtual PetscErrorCode on_step(const StepInfo& info) = 0;
+  /// Whether the run should stop after this accepted step (an interrupting signal). Collective:
+  /// asked on every rank after every step, it must answer the same everywhere.
+  virtual bool stop_requested() { return false; }
 };
 
 /// After an accepted step: updates the report (time, steps, iterations, rejections, the largest
-/// constraint violation so far) and hands the step to the observer (if any). Collective.
+/// constraint violation so far), hands the step to the observer (if any) and marks the report
+/// interrupted when the observer asks to stop. Collective.
 PetscErrorCode record_step(SystemAssembler& sa, const StepInfo& info, DynamicReport* report, StepObserver* observer);
 
 /// "constraint 'hinge' (revolute), |g| = 1.2e-3" or "no constraints".

@@ -17,6 +17,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <utility>
 
 namespace {
 
@@ -293,6 +294,56 @@ TEST_F(Cli, UnknownSolverTypesAreExitTwoWithNothingWritten) {
   EXPECT_EQ(deep.code, 2) << deep.out << deep.err;
   EXPECT_NE(deep.err.find("PETSC ERROR"), std::string::npos) << deep.err;
   EXPECT_NE(deep.err.find("exit code 2"), std::string::npos) << deep.err;
+}
+
+// A rope paid in through zero length: check finds it at the drive's key; a run taken past the
+// checked span (-ts_max_time) meets it as a domain error, cuts its step, and ends as a solver
+// failure (exit 1) that names it, with its summary and the results up to then.
+TEST_F(Cli, RopeRestLengthThroughZeroIsFoundByCheckOrEndsTheRunCleanly) {
+  const std::string shortened = std::string("base: ") + ROPE_LOWERING +
+                                "\ndrives:\n  pay_out: {type: trapezoidal, t_start: 1, duration: 10, accel_time: 2, "
+                                "decel_time: 2, distance: -12, initial: 10}\n";
+  write("through_zero.yaml", shortened + "solver:\n  static: {enabled: true}\n  dynamics: {t_end: 12, time_step: 0.005}\n");
+  const Outcome checked = run("check through_zero.yaml");
+  EXPECT_EQ(checked.code, 2) << checked.err;
+  EXPECT_NE(checked.err.find("rest_length_drive: the drive takes the rope's rest length to"), std::string::npos)
+      << checked.err;
+  write("until_8.yaml", shortened + "solver:\n  static: {enabled: true}\n  dynamics: {t_end: 8, time_step: 0.005}\n");
+  ASSERT_EQ(run("check until_8.yaml").code, 0);
+  const Outcome o = run("run until_8.yaml --output out -ts_max_time 12");
+  EXPECT_EQ(o.code, 1) << o.out << o.err;
+  EXPECT_NE(o.err.find("outside its domain: rope rest length"), std::string::npos) << o.err;
+  EXPECT_NE(o.out.find("dynamics FAILED"), std::string::npos) << o.out;
+  EXPECT_TRUE(fs::exists(dir_ / "out" / "until_8.h5"));
+  EXPECT_TRUE(fs::exists(dir_ / "out" / "until_8.xdmf"));
+}
+
+// SIGINT or SIGTERM during a run: the step ends, the results and the summary are written, and the
+// exit code says which signal (130, 143); on two ranks both stop after the same step.
+TEST_F(Cli, SignalsEndTheRunWithResultsAndSummary) {
+  write("long.yaml", replaced(replaced(kPendulum, "t_end: 0.2", "t_end: 100000"), "interval: 0.05", "interval: 10"));
+  for (const auto& [signal, code] : {std::pair<std::string, int>{"INT", 130}, {"TERM", 143}}) {
+    const std::string out = "out_" + signal;
+    const Outcome o = run("run long.yaml --output " + out, "timeout --preserve-status -s " + signal + " 3");
+    EXPECT_EQ(o.code, code) << signal << ": " << o.out << o.err;
+    EXPECT_NE(o.out.find("dynamics INTERRUPTED"), std::string::npos) << o.out;
+    EXPECT_NE(o.err.find("by SIG" + signal + "; results written up to there"), std::string::npos) << o.err;
+    EXPECT_TRUE(fs::exists(dir_ / out / "long.xdmf"));
+    const hid_t f = H5Fopen((dir_ / out / "long.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+    ASSERT_GE(f, 0) << "the results must be readable";
+    const hid_t d = H5Dopen2(f, "/time", H5P_DEFAULT);
+    const hid_t space = H5Dget_space(d);
+    hsize_t n = 0;
+    H5Sget_simple_extent_dims(space, &n, nullptr);
+    EXPECT_GE(n, 2u) << "the first state and the one the run stopped at";
+    H5Sclose(space);
+    H5Dclose(d);
+    H5Fclose(f);
+  }
+  const Outcome two = run("run long.yaml --output out_mpi",
+                          "timeout --preserve-status -s TERM 4 " + latticedyn::testing::mpiexec(MPIEXEC, 2));
+  EXPECT_NE(two.err.find("by SIGTERM; results written up to there"), std::string::npos) << two.out << two.err;
+  EXPECT_TRUE(fs::exists(dir_ / "out_mpi" / "long.xdmf"));
 }
 
 TEST_F(Cli, InputErrorOnTwoRanksEndsBothWithoutHanging) {
