@@ -70,10 +70,20 @@ void read_constraints(ReaderContext& ctx, const InputNode& list, std::map<std::s
   }
 }
 
+// Limits of a model's size beyond which a run is a mistake, not a model: stated, so that a file
+// cannot make the reader or the solver work without end.
+constexpr std::size_t kMaxLoads = 100000;
+constexpr int kMaxLoadSteps = 10000;
+constexpr int kMaxNewtonIterations = 10000;
+
 void read_loads(ReaderContext& ctx, const InputNode& list) {
   int index = 1;
   std::set<std::string> names;
-  for (const InputNode& n : list.items()) {
+  const std::vector<InputNode> items = list.items();
+  if (items.size() > kMaxLoads)
+    list.fail("a model has at most " + std::to_string(kMaxLoads) + " loads (this one " + std::to_string(items.size()) +
+              ")");
+  for (const InputNode& n : items) {
     n.allow_only({"name", "joint", "force", "force_frame", "moment", "moment_frame", "drive"});
     NodalLoad l;
     l.name = n.get_string("name", "load" + std::to_string(index++));
@@ -108,15 +118,17 @@ void read_solver(const InputNode& n, Simulation& sim) {
     StaticSettings& st = sim.statics;
     if (auto k = s->get("load_steps")) {
       st.load_steps = k->as_int();
-      if (st.load_steps < 1) k->fail("expected at least 1 load step");
+      if (st.load_steps < 1 || st.load_steps > kMaxLoadSteps)
+        k->fail("expected 1 to " + std::to_string(kMaxLoadSteps) + " load steps");
     }
     if (auto k = s->get("max_iterations")) {
       st.max_iterations = k->as_int();
-      if (st.max_iterations < 1) k->fail("expected at least 1 iteration");
+      if (st.max_iterations < 1 || st.max_iterations > kMaxNewtonIterations)
+        k->fail("expected 1 to " + std::to_string(kMaxNewtonIterations) + " iterations");
     }
     if (auto k = s->get("max_cuts")) {
       st.max_cuts = k->as_int();
-      if (st.max_cuts < 0) k->fail("expected a number of halvings >= 0");
+      if (st.max_cuts < 0 || st.max_cuts > 60) k->fail("expected 0 to 60 halvings (2^-60 of a load step)");
     }
     st.rtol = s->get_positive("rtol", st.rtol);
     st.atol = s->get_positive("atol", st.atol);

@@ -208,6 +208,8 @@ TEST_F(Cli, InputThatIsNotAModelIsExitTwo) {
       {"check listkey.yaml", "[a, b]: 1\n", "listkey.yaml:1:1: a key must be a plain name"},  // a list as a key
       {"check nested.yaml", "title: t\nbodies:\n  - {? {a: 1} : 2}\n", "nested.yaml:3:"},  // a map as a key, deeper
       {"check longbase.yaml", "base: " + long_name + ".yaml\n", "longbase.yaml:1:7: base: no model file"},
+      {"check steps.yaml", "base: pendulum.yaml\nsolver:\n  static: {load_steps: 2000000000}\n",
+       "steps.yaml:3:24: solver.static.load_steps: expected 1 to 10000"},  // a static solve without end
   };
   for (const Case& c : cases) {
     if (!c.text.empty()) write(c.args.substr(6), c.text);
