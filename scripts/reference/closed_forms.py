@@ -8,6 +8,10 @@
   Omega^2 = (m_r L / 2 + m_b L) g / (I_O cos theta), I_O = m_r L^2 / 3 + rho I_m L + m_b L^2
   (Lagrange's equations for T = I_O/2 (theta_dot^2 + sin^2 theta psi_dot^2)).
 - block on an incline: s(t) = g sin(alpha) t^2 / 2 along the incline, normal force m g cos(alpha).
+- elastica: a cantilever under a transverse tip load, EI theta'' + P cos(theta) = 0 with
+  theta(0) = 0, theta'(L) = 0, solved by shooting on theta'(0) (fourth-order Runge-Kutta, 20,000
+  steps); it reproduces Mattiasson's elliptic-integral table (Int. J. Numer. Meth. Engng 17 (1981)
+  145-153) at P L^2 / EI = 1, 3, 10.
 """
 import math
 
@@ -42,3 +46,39 @@ for t in (0.5, 1.0, 1.5):
     s = 0.5 * g * math.sin(alpha) * t * t
     print(f"incline: t = {t}: s = {s:.10f}, x = {s * math.cos(alpha):.10f}, z = {-s * math.sin(alpha):.10f}")
 print(f"incline: normal force {mblk * g * math.cos(alpha):.10f} N")
+
+# --- elastica (verification/cases/elastica.yaml): tip displacements for P L^2 / EI = alpha
+
+
+def elastica_tip(alpha, steps=20000):
+    """(u/L, w/L, tip rotation) of the inextensible cantilever elastica, arc length s in [0, 1]."""
+
+    def integrate(k0, n):
+        h = 1.0 / n
+        state = [0.0, k0, 0.0, 0.0]  # theta, theta', x, z
+
+        def rate(st):
+            return [st[1], -alpha * math.cos(st[0]), math.cos(st[0]), math.sin(st[0])]
+
+        for _ in range(n):
+            k1 = rate(state)
+            k2 = rate([a + h / 2 * b for a, b in zip(state, k1)])
+            k3 = rate([a + h / 2 * b for a, b in zip(state, k2)])
+            k4 = rate([a + h * b for a, b in zip(state, k3)])
+            state = [a + h / 6 * (b + 2 * c + 2 * d + e) for a, b, c, d, e in zip(state, k1, k2, k3, k4)]
+        return state
+
+    lo, hi = 0.0, alpha  # theta'(0) = curvature at the clamp, between 0 and P L^2 / EI
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        if integrate(mid, 2000)[1] > 0:
+            hi = mid
+        else:
+            lo = mid
+    theta, _, x, z = integrate(0.5 * (lo + hi), steps)
+    return 1.0 - x, z, theta
+
+
+for a in (1.0, 3.0, 10.0):
+    u, w, th = elastica_tip(a)
+    print(f"elastica: P L^2 / EI = {a:g}: u/L = {u:.5f}, w/L = {w:.5f}, tip rotation {th:.5f} rad")
