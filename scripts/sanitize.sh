@@ -1,0 +1,16 @@
+#!/usr/bin/env bash
+# AddressSanitizer + UndefinedBehaviorSanitizer build of latticedyn in ./build-asan and its unit
+# tests and verification cases under them (GCC's libasan and libubsan). Open MPI's and PETSc's
+# own allocations are not ours: leak checking is off; any other finding fails the test.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+build_dir=${LATTICEDYN_ASAN_DIR:-build-asan}
+jobs=${LATTICEDYN_JOBS:-$(nproc)}
+cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DLATTICEDYN_SANITIZE=address,undefined \
+      -DLATTICEDYN_BUILD_BENCHMARKS=OFF >/dev/null
+# gtest_discover_tests runs the test programs while building: the options apply there too.
+export ASAN_OPTIONS=detect_leaks=0:abort_on_error=1:strict_string_checks=1
+export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+cmake --build "$build_dir" -j "$jobs"
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
+ctest --test-dir "$build_dir" --output-on-failure -j "$(nproc)" -L "unit|verification" -LE "mpi|study" "$@"
