@@ -199,4 +199,16 @@ EquivalentBeam equivalent_beam(const TrussSectionSpec& spec, const TrussGeometry
   return e;
 }
 
+TrussSectionSpec rectangular_truss_section(double length, int order, double half_width, double half_height) {
+  TrussSectionSpec s;
+  s.length = length;
+  s.order = order;
+  s.end1 = {{half_width, half_height}, {-half_width, half_height}, {-half_width, -half_height}, {half_width, -half_height}};
+  s.end2 = s.end1;
+  s.main_beams = {{0, 0}, {1, 1}, {2, 2}, {3, 3}};
+  s.cross_beams1 = {{0, 1}, {1, 2}, {2, 3}, {3, 0}};
+  s.cross_beams2 = s.cross_beams1;
+  return s;
+}
+
 }  // namespace latticedyn

@@ -88,6 +88,12 @@ struct TrussGeometry {
 /// Generates the lattice of `spec` (validated first).
 TrussGeometry build_truss_geometry(const TrussSectionSpec& spec);
 
+/// The layout of a box lattice (the booms of thesis Table D-3): four main beams along the edges of
+/// a prism, the end-1 nodes at (y, z) = (+-half_width, +-half_height) in cyclic order, the end-2
+/// nodes the same unless given, cross beams around both ends. Material and sections are left to
+/// the caller.
+TrussSectionSpec rectangular_truss_section(double length, int order, double half_width, double half_height);
+
 /// Closed forms of the equivalent beam (for checks): axial stiffness E * sum of the main beams'
 /// areas (for main beams parallel to the axis) and the bending stiffnesses about y and z from
 /// the parallel-axis sums E * sum A_i z_i^2 and E * sum A_i y_i^2 of the main chords about the

@@ -133,6 +133,18 @@ inline void add_flexible_chain(ModelBuilder& b, int attach_joint, int ground_joi
   b.add_constraint(anchor, true);
 }
 
+/// A force and a moment on `joint` that turn with its frame (LoadFrame::body for both).
+inline NodalLoad follower_load(const std::string& name, int joint, const Vec3& force, const Vec3& moment) {
+  NodalLoad l;
+  l.name = name;
+  l.joint = joint;
+  l.force = force;
+  l.force_frame = LoadFrame::body;
+  l.moment = moment;
+  l.moment_frame = LoadFrame::body;
+  return l;
+}
+
 /// A mechanism using everything the assembly supports: four rigid bodies chained by a driven
 /// revolute, a spherical, a prismatic and a fixed joint, two strut ties (one attached by
 /// multipliers, one by a shared node), loads in the inertial and the body frame, and a flexible
@@ -179,14 +191,7 @@ inline Model kitchen_sink_model() {
 
   add_flexible_chain(b, d1, b.add_ground_joint("ground.q", Vec3(2.5, 2.0, -0.5), Mat3::Identity()));
 
-  NodalLoad f;
-  f.name = "push";
-  f.joint = d1;
-  f.force = Vec3(1.0, -2.0, 0.5);
-  f.force_frame = LoadFrame::body;
-  f.moment = Vec3(0.3, 0.1, -0.2);
-  f.moment_frame = LoadFrame::body;
-  b.add_load(f);
+  b.add_load(follower_load("push", d1, Vec3(1.0, -2.0, 0.5), Vec3(0.3, 0.1, -0.2)));
   NodalLoad g;
   g.name = "pull";
   g.joint = a1;
@@ -197,25 +202,18 @@ inline Model kitchen_sink_model() {
   return b.build();
 }
 
-/// A lattice section of Timoshenko members clamped at its first end by shared fixed joints, with a
-/// follower load at its far end: every unknown a translation or rotation block, no multipliers (the
-/// models create_matrix can hold in 3 x 3 blocks).
 /// A 5 m steel lattice section of rectangular cross-section (1.5 x 1.4 m), order 2.
 inline TrussSectionSpec rectangular_section() {
-  TrussSectionSpec s;
-  s.length = 5.0;
-  s.order = 2;
-  s.end1 = {{0.75, 0.7}, {-0.75, 0.7}, {-0.75, -0.7}, {0.75, -0.7}};
-  s.end2 = s.end1;
-  s.main_beams = {{0, 0}, {1, 1}, {2, 2}, {3, 3}};
-  s.cross_beams1 = {{0, 1}, {1, 2}, {2, 3}, {3, 0}};
-  s.cross_beams2 = s.cross_beams1;
+  TrussSectionSpec s = rectangular_truss_section(5.0, 2, 0.75, 0.7);
   s.material = Material{7800, 2.06e11, 0.3};
   s.main_section = s.cross_section = round_tube_section(0.1, 0.08);
   s.sub_section = round_tube_section(0.05, 0.04);
   return s;
 }
 
+/// A lattice section of Timoshenko members clamped at its first end by shared fixed joints, with a
+/// follower load at its far end: every unknown a translation or rotation block, no multipliers (the
+/// models create_matrix can hold in 3 x 3 blocks).
 inline Model clamped_lattice_model() {
   ModelBuilder b;
   b.set_gravity(Vec3(0, 0, -9.81));
@@ -234,14 +232,7 @@ inline Model clamped_lattice_model() {
     const int ground = b.add_ground_joint("ground." + name, t.position0, r.orientation0 * j.frame);
     b.add_constraint(Constraint{"clamp." + name, ConstraintType::fixed, 0, ground, joint, -1}, true);
   }
-  NodalLoad f;
-  f.name = "follower";
-  f.joint = far;
-  f.force = Vec3(1e4, -2e4, 5e3);
-  f.force_frame = LoadFrame::body;
-  f.moment = Vec3(3e3, 1e3, -2e3);
-  f.moment_frame = LoadFrame::body;
-  b.add_load(f);
+  b.add_load(follower_load("follower", far, Vec3(1e4, -2e4, 5e3), Vec3(3e3, 1e3, -2e3)));
   return b.build();
 }
 

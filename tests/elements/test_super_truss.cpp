@@ -16,14 +16,8 @@ namespace latticedyn {
 namespace {
 
 TrussSectionSpec rectangle(int order = 3, double length = 6.0, double E = 2.06e11) {
-  TrussSectionSpec s;
-  s.length = length;
-  s.order = order;
-  s.end1 = {{1.5, 1.4}, {-1.5, 1.4}, {-1.5, -1.4}, {1.5, -1.4}};
+  TrussSectionSpec s = rectangular_truss_section(length, order, 1.5, 1.4);
   s.end2 = {{1.3, 1.2}, {-1.3, 1.2}, {-1.3, -1.2}, {1.3, -1.2}};  // shrinking: tapered main beams
-  s.main_beams = {{0, 0}, {1, 1}, {2, 2}, {3, 3}};
-  s.cross_beams1 = {{0, 1}, {1, 2}, {2, 3}, {3, 0}};
-  s.cross_beams2 = s.cross_beams1;
   s.material = Material{7800, E, 0.25};
   s.main_section = s.cross_section = round_tube_section(0.1, 0.08);
   s.sub_section = round_tube_section(0.05, 0.04);

@@ -11,14 +11,7 @@ namespace latticedyn {
 namespace {
 
 TrussSectionSpec rectangle(int order = 6, double length = 15.0) {  // Table D-3, type 2
-  TrussSectionSpec s;
-  s.length = length;
-  s.order = order;
-  s.end1 = {{1.5, 1.4}, {-1.5, 1.4}, {-1.5, -1.4}, {1.5, -1.4}};
-  s.end2 = s.end1;
-  s.main_beams = {{0, 0}, {1, 1}, {2, 2}, {3, 3}};
-  s.cross_beams1 = {{0, 1}, {1, 2}, {2, 3}, {3, 0}};
-  s.cross_beams2 = s.cross_beams1;
+  TrussSectionSpec s = rectangular_truss_section(length, order, 1.5, 1.4);
   s.material = Material{7800, 2.06e11, 0.25};
   s.main_section = s.cross_section = round_tube_section(0.1, 0.08);
   s.sub_section = round_tube_section(0.05, 0.04);
