@@ -878,4 +878,21 @@ PetscErrorCode SystemAssembler::gather(double t, Vec U, Vec V, Vec A, Parametriz
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode SystemAssembler::gather_in_model_order(Vec X, std::vector<double>* ordered) {
+  PetscFunctionBeginUser;
+  ordered->clear();
+  if (!to_root_) PetscCall(VecScatterCreateToZero(global_template_, &to_root_, &root_seq_));
+  PetscCall(VecScatterBegin(to_root_, X, root_seq_, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterEnd(to_root_, X, root_seq_, INSERT_VALUES, SCATTER_FORWARD));
+  if (dofs_.rank() == 0) {
+    const PetscScalar* x;
+    PetscInt n;
+    PetscCall(VecGetLocalSize(root_seq_, &n));
+    PetscCall(VecGetArrayRead(root_seq_, &x));
+    *ordered = dofs_.to_model_order(std::span<const double>(x, static_cast<std::size_t>(n)));
+    PetscCall(VecRestoreArrayRead(root_seq_, &x));
+  }
+  PetscFunctionReturn(0);
+}
+
 }  // namespace latticedyn

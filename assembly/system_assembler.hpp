@@ -94,6 +94,9 @@ class SystemAssembler {
 
   /// Gathers the state to rank 0 and loads it into `state` there (other ranks: untouched).
   PetscErrorCode gather(double t, Vec U, Vec V, Vec A, Parametrization param, ModelState* state);
+  /// Gathers X (a vector of the system's layout) to rank 0 in model order (DofMap::to_model_order),
+  /// the same on any number of ranks; other ranks get an empty vector. Collective.
+  PetscErrorCode gather_in_model_order(Vec X, std::vector<double>* ordered);
 
   /// Typical diagonal mass and stiffness at the initial state, for scaling constraint rows.
   double characteristic_mass() const { return mass_scale_; }

@@ -11,6 +11,8 @@
 
 #include <petscts.h>
 
+#include <cctype>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -20,6 +22,8 @@
 #include <chrono>
 #include <cstdio>
 #include <map>
+#include <optional>
+#include <utility>
 #include <memory>
 
 namespace latticedyn {
@@ -97,10 +101,51 @@ std::string unknown_solver_type(MPI_Comm comm) {
   return message;
 }
 
+// The results file a run writes: <output directory>/<name>.h5.
+std::filesystem::path results_file(const Simulation& sim, const CommandOptions& opt) {
+  const std::string dir = opt.output_directory.empty() ? sim.output.directory : opt.output_directory;
+  return std::filesystem::path(dir.empty() ? "." : dir) / (sim.output.name + ".h5");
+}
+
+// --restart FILE or FILE:STEP (STEP: digits), as the file and the step (-1: the last checkpoint).
+std::pair<std::string, long> split_restart(const std::string& arg) {
+  const std::size_t colon = arg.rfind(':');
+  if (colon == std::string::npos || colon + 1 == arg.size() || arg.size() - colon > 16) return {arg, -1};
+  for (std::size_t i = colon + 1; i < arg.size(); ++i)
+    if (!std::isdigit(static_cast<unsigned char>(arg[i]))) return {arg, -1};
+  return {arg.substr(0, colon), std::stol(arg.substr(colon + 1))};
+}
+
+// The checkpoint a run continues from (every rank reads it), checked against the model; "" or
+// what is wrong.
+std::string load_checkpoint(const Simulation& sim, const std::string& restart, Checkpoint* c) {
+  const auto [file, step] = split_restart(restart);
+  try {
+    *c = read_checkpoint(file, step);
+  } catch (const std::runtime_error& e) {
+    return std::string("--restart: ") + e.what();
+  }
+  char buf[512];
+  if (c->integrator != integrator_name(sim.dynamics.integrator)) {
+    std::snprintf(buf, sizeof buf, "--restart: the checkpoint was written by the %s integrator, the model asks for %s",
+                  c->integrator.c_str(), integrator_name(sim.dynamics.integrator));
+    return buf;
+  }
+  if (c->time >= sim.dynamics.t_end - 1e-9 * std::max(1.0, std::abs(c->time))) {
+    std::snprintf(buf, sizeof buf,
+                  "--restart: the checkpoint at t = %.9g s is not before the model's t_end = %.9g s: nothing to "
+                  "continue (raise solver.dynamics.t_end)",
+                  c->time, sim.dynamics.t_end);
+    return buf;
+  }
+  return "";
+}
+
 // Creates the writer on rank 0; a failure there (e.g. an unwritable folder) is shared with all
 // ranks so that they stop together.
 std::unique_ptr<ResultWriter> open_writer(const Simulation& sim, const CommandOptions& opt, MPI_Comm comm,
-                                          std::string* error) {
+                                          std::string* error,
+                                          std::optional<ResultContinuation> continuation = std::nullopt) {
   std::unique_ptr<ResultWriter> writer;
   int ok = 1;
   if (is_root(comm)) {
@@ -109,6 +154,7 @@ std::unique_ptr<ResultWriter> open_writer(const Simulation& sim, const CommandOp
       o.directory = opt.output_directory.empty() ? sim.output.directory : opt.output_directory;
       o.base_name = sim.output.name;
       o.probe_joints = sim.output.probe_joints;
+      o.continuation = continuation;
       writer = std::make_unique<ResultWriter>(sim.model, o);
     } catch (const std::exception& e) {
       *error = e.what();
@@ -174,8 +220,31 @@ int command_solve(Simulation& sim, const CommandOptions& opt, MPI_Comm comm, boo
     error_root(comm, error);
     return kInputError;
   }
+  // A run continued from a checkpoint: no statics, time from the checkpoint, and its own results
+  // file continued in place (another file: written anew from the checkpoint on).
+  std::optional<Checkpoint> checkpoint;
+  std::optional<ResultContinuation> continuation;
+  if (!opt.restart.empty()) {
+    checkpoint.emplace();
+    error = load_checkpoint(sim, opt.restart, &*checkpoint);
+    if (!error.empty()) {
+      error_root(comm, error);
+      return kInputError;
+    }
+    statics = false;
+    sim.dynamics.t_start = checkpoint->time;
+    std::error_code ec;
+    if (std::filesystem::equivalent(split_restart(opt.restart).first, results_file(sim, opt), ec))
+      continuation = ResultContinuation{checkpoint->outputs_written, checkpoint->time};
+    MPI_Barrier(comm);  // every rank has closed the file before rank 0 opens it to continue it
+  } else if (dynamics && !sim.start_coordinates.empty()) {
+    print_root(comm,
+               "latticedyn: warning: start_state sets the coordinates only (velocities zero, time from the model); "
+               "it is not a restart: --restart RESULTS.h5 continues a run exactly\n",
+               stderr);
+  }
   const auto opened = Clock::now();
-  auto writer = open_writer(sim, opt, comm, &error);
+  auto writer = open_writer(sim, opt, comm, &error, continuation);
   const double results = seconds_since(opened);
   if (!error.empty()) {
     error_root(comm, error);
@@ -183,15 +252,36 @@ int command_solve(Simulation& sim, const CommandOptions& opt, MPI_Comm comm, boo
   }
   const auto numbered = Clock::now();
   SystemAssembler sa(sim.model, comm);
-  Vec U, V;
+  if (checkpoint && checkpoint->coordinates.size() != static_cast<std::size_t>(sa.dofs().global_size())) {
+    error_root(comm, "--restart: the checkpoint holds " + std::to_string(checkpoint->coordinates.size()) +
+                         " coordinates, the model has " + std::to_string(sa.dofs().global_size()) +
+                         ": it was written for another model");
+    return kInputError;
+  }
+  Vec U, V, A = nullptr;
   PetscCallAbort(comm, sa.create_vector(&U));
   PetscCallAbort(comm, sa.create_vector(&V));
-  PetscCallAbort(comm, initial_state(sim, sa, U, V));
+  if (checkpoint) {
+    PetscCallAbort(comm, sa.create_vector(&A));
+    set_state_in_model_order(sa.dofs(), U, checkpoint->coordinates);
+    set_state_in_model_order(sa.dofs(), V, checkpoint->velocities);
+    set_state_in_model_order(sa.dofs(), A, checkpoint->accelerations);
+  } else {
+    PetscCallAbort(comm, initial_state(sim, sa, U, V));
+  }
   print_root(comm, setup_summary(comm, sim, seconds_since(numbered), results));
 
   const double t0 = dynamics ? sim.dynamics.t_start : sim.statics.time;
   const double t1 = dynamics ? sim.dynamics.t_end : sim.statics.time;
-  OutputObserver out(sa, writer.get(), sim.output.interval, t1);
+  OutputObserver out(sa, writer.get(), sim.output.interval, t1, integrator_name(sim.dynamics.integrator));
+  if (continuation) {
+    out.resume(*checkpoint);
+  } else if (checkpoint) {  // a new results file starts with the checkpoint's state
+    StepInfo first{static_cast<int>(checkpoint->resume.step), checkpoint->time, 0.0, U, V, A,
+                   checkpoint->velocities_are_rates ? Parametrization::rotation_vector_rates
+                                                    : Parametrization::velocity_variables};
+    PetscCallAbort(comm, out.on_step(first));
+  }
   ProgressObserver progress(comm, t0, t1);
   FaultInjection fault(comm);
   InterruptObserver interrupt(comm);
@@ -201,7 +291,8 @@ int command_solve(Simulation& sim, const CommandOptions& opt, MPI_Comm comm, boo
   observers.add(&fault);
   observers.add(&interrupt);
   SimulationOutcome outcome;
-  PetscCallAbort(comm, simulate(sim, sa, U, V, statics, dynamics, &observers, &outcome));
+  PetscCallAbort(comm, simulate(sim, sa, U, V, statics, dynamics, &observers, &outcome,
+                                checkpoint ? &checkpoint->resume : nullptr, A));
   progress.done();
   // The last state is written even when a solver stopped early (for statics: the equilibrium,
   // or the last converged load level).
@@ -236,9 +327,17 @@ int command_solve(Simulation& sim, const CommandOptions& opt, MPI_Comm comm, boo
     if (!r.linear_solver.empty()) text += "linear solver: " + r.linear_solver + "\n";
   }
   text += peak_memory(comm);
+  if (out.checkpoints() > 0 && writer) {
+    char buf[1024];
+    std::snprintf(buf, sizeof buf, "checkpoint: step %ld, t = %.9g s (`latticedyn run %s --restart %s` continues from it)\n",
+                  out.last_checkpoint_step(), out.last_checkpoint_time(), sim.source.c_str(),
+                  writer->h5_path().c_str());
+    text += buf;
+  }
   print_root(comm, text + where_results(writer.get()));
   VecDestroy(&U);
   VecDestroy(&V);
+  VecDestroy(&A);
   if (outcome.dynamics_run && outcome.dynamics.interrupted) return interrupt.exit_code();
   return outcome.ok() ? kSuccess : kSolverFailure;
 }

@@ -19,6 +19,7 @@ struct CommandOptions {
   int modes = 6;                 ///< modes: how many of the lowest natural modes
   int groups = 0;                ///< batch: rank groups (0: one per rank)
   bool retry_failed = false;     ///< batch: solve recorded failures again on resume
+  std::string restart;           ///< run: FILE or FILE:STEP, the checkpoint to continue from
 };
 
 int command_check(const Simulation& sim, MPI_Comm comm);

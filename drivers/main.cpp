@@ -15,11 +15,12 @@
 namespace {
 
 const char* kUsage =
-    "usage: latticedyn <command> MODEL.yaml [--output DIR] [PETSc options]\n"
+    "usage: latticedyn <command> MODEL.yaml [--output DIR] [--restart FILE[:STEP]] [PETSc options]\n"
     "commands:\n"
     "  check    validate the model and describe it\n"
     "  static   find the static equilibrium and write it\n"
-    "  run      static equilibrium if the model asks for it, then the dynamics\n"
+    "  run      static equilibrium if the model asks for it, then the dynamics (--restart RESULTS.h5[:STEP]\n"
+    "           continues a run from its last checkpoint, or the one at step STEP, exactly)\n"
     "  modes    static equilibrium, then the lowest natural frequencies and mode shapes (--modes N, default 6)\n"
     "  batch    the cases of a batch file (a grid or list of model changes) over MPI rank groups\n"
     "           (--groups G, default one per rank; resumes in its output folder; --retry-failed)\n"
@@ -76,6 +77,12 @@ int main(int argc, char** argv) {
         return kInputError;
       }
       options.groups = std::atoi(argv[++i]);
+    } else if (!std::strcmp(argv[i], "--restart")) {
+      if (command != "run" || i + 1 >= argc) {
+        std::fprintf(stderr, "latticedyn: error: --restart belongs to 'run' and needs a results file (FILE or FILE:STEP)\n");
+        return kInputError;
+      }
+      options.restart = argv[++i];
     } else if (!std::strcmp(argv[i], "--retry-failed")) {
       options.retry_failed = true;
     } else if (i == 2 && argv[i][0] != '-') {

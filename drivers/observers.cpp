@@ -10,8 +10,50 @@
 
 namespace latticedyn {
 
-OutputObserver::OutputObserver(SystemAssembler& sa, ResultWriter* writer, double interval, double t_end)
-    : sa_(sa), writer_(writer), state_(sa.model(), sa.dofs()), interval_(interval), t_end_(t_end) {}
+OutputObserver::OutputObserver(SystemAssembler& sa, ResultWriter* writer, double interval, double t_end,
+                               std::string integrator)
+    : sa_(sa),
+      writer_(writer),
+      state_(sa.model(), sa.dofs()),
+      interval_(interval),
+      t_end_(t_end),
+      integrator_(std::move(integrator)) {}
+
+void OutputObserver::resume(const Checkpoint& c) {
+  written_ = static_cast<int>(c.outputs_written);
+  last_written_ = c.last_output;
+  next_ = c.next_output;
+}
+
+PetscErrorCode OutputObserver::write_checkpoint(const StepInfo& info) {
+  Checkpoint c;
+  PetscFunctionBeginUser;
+  PetscCall(sa_.gather_in_model_order(info.U, &c.coordinates));
+  PetscCall(sa_.gather_in_model_order(info.V, &c.velocities));
+  if (info.A) PetscCall(sa_.gather_in_model_order(info.A, &c.accelerations));
+  else c.accelerations.assign(c.coordinates.size(), 0.0);
+  c.time = info.time;
+  c.resume.step = info.step;
+  c.resume.next_time_step = info.next_time_step;
+  c.resume.newton_iterations = info.newton_iterations;
+  c.resume.rejected_steps = info.rejected_steps;
+  if (info.report) {
+    c.resume.rotation_rescales = info.report->rotation_rescales;
+    c.resume.jacobians = info.report->jacobians;
+    c.resume.max_violation = info.report->max_violation;
+    c.resume.violation_constraint = info.report->violation_constraint;
+  }
+  c.integrator = integrator_;
+  c.velocities_are_rates = info.param == Parametrization::rotation_vector_rates;
+  c.outputs_written = written_;
+  c.last_output = last_written_;
+  c.next_output = next_;
+  if (writer_) PetscCallCXX(writer_->write_checkpoint(c));
+  ++checkpoints_;
+  checkpoint_step_ = info.step;
+  checkpoint_time_ = info.time;
+  PetscFunctionReturn(0);
+}
 
 PetscErrorCode OutputObserver::write(double t, Vec U, Vec V, Vec A, Parametrization param) {
   PetscFunctionBeginUser;
@@ -37,6 +79,7 @@ PetscErrorCode OutputObserver::on_step(const StepInfo& info) {
       next_ = (std::floor((info.time + eps) / interval_) + 1) * interval_;
     }
   }
+  if (info.checkpoint) PetscCall(write_checkpoint(info));
   PetscFunctionReturn(0);
 }
 

@@ -2,33 +2,48 @@
 // line on stderr (simulated time, steps, ETA) for runs longer than a second.
 #pragma once
 
+#include "io/checkpoint.hpp"
 #include "io/result_writer.hpp"
 #include "timestepping/solver_setup.hpp"
 
 #include <chrono>
 #include <memory>
+#include <string>
 #include <vector>
 
 namespace latticedyn {
 
 /// Gathers the state to rank 0 and appends it to the results every `interval` simulated
-/// seconds (every step for 0), always including the first and the last state.
+/// seconds (every step for 0), always including the first and the last state; writes a
+/// checkpoint where the integrator marks one (StepInfo::checkpoint).
 class OutputObserver final : public StepObserver {
  public:
-  OutputObserver(SystemAssembler& sa, ResultWriter* writer_on_root, double interval, double t_end);
+  OutputObserver(SystemAssembler& sa, ResultWriter* writer_on_root, double interval, double t_end,
+                 std::string integrator = "generalized_alpha");
   PetscErrorCode on_step(const StepInfo& info) override;
   /// Writes (t, U, V) unless it was the last state written.
   PetscErrorCode finish(double t, Vec U, Vec V, Parametrization param);
+  /// Goes on with the output schedule of a checkpoint whose results file the writer continues.
+  void resume(const Checkpoint& c);
   int written() const { return written_; }
+  /// Checkpoints written in this run, and the step and time of the last (-1 for none).
+  int checkpoints() const { return checkpoints_; }
+  long last_checkpoint_step() const { return checkpoint_step_; }
+  double last_checkpoint_time() const { return checkpoint_time_; }
 
  private:
   PetscErrorCode write(double t, Vec U, Vec V, Vec A, Parametrization param);
+  PetscErrorCode write_checkpoint(const StepInfo& info);
   SystemAssembler& sa_;
   ResultWriter* writer_;
   ModelState state_;
   double interval_, t_end_;
   double next_ = 0.0, last_written_ = -1e300;
   int written_ = 0;
+  std::string integrator_;
+  int checkpoints_ = 0;
+  long checkpoint_step_ = -1;
+  double checkpoint_time_ = 0.0;
 };
 
 /// The progress line on stderr (rank 0): from `-progress_after` seconds of wall time on (default

@@ -25,8 +25,13 @@ void set_state_in_model_order(const DofMap& dofs, Vec U, const std::vector<doubl
   PetscCallAbort(comm, VecRestoreArray(U, &u));
 }
 
+const char* integrator_name(IntegratorKind kind) {
+  return kind == IntegratorKind::baumgarte ? "baumgarte" : "generalized_alpha";
+}
+
 PetscErrorCode simulate(Simulation& sim, SystemAssembler& sa, Vec U, Vec V, bool statics, bool dynamics,
-                        StepObserver* observer, SimulationOutcome* outcome) {
+                        StepObserver* observer, SimulationOutcome* outcome, const ResumePoint* resume,
+                        Vec acceleration) {
   PetscFunctionBeginUser;
   *outcome = SimulationOutcome{};
   if (statics) {
@@ -42,10 +47,10 @@ PetscErrorCode simulate(Simulation& sim, SystemAssembler& sa, Vec U, Vec V, bool
     outcome->dynamics_run = true;
     if (sim.dynamics.integrator == IntegratorKind::baumgarte) {
       BaumgarteIntegrator integrator(sa, sim.dynamics);
-      PetscCall(integrator.run(U, V, observer, &outcome->dynamics));
+      PetscCall(integrator.run(U, V, observer, &outcome->dynamics, resume));
     } else {
       GeneralizedAlphaIntegrator integrator(sa, sim.dynamics);
-      PetscCall(integrator.run(U, V, observer, &outcome->dynamics));
+      PetscCall(integrator.run(U, V, observer, &outcome->dynamics, resume, acceleration));
     }
   }
   PetscFunctionReturn(0);

@@ -28,8 +28,15 @@ void set_state_in_model_order(const DofMap& dofs, Vec U, const std::vector<doubl
 /// vector rates). With `statics` the equilibrium replaces U and the rates are zeroed; with
 /// `dynamics` the integrator runs from t_start to t_end and `observer` sees every step. The
 /// dynamics are skipped when the equilibrium fails. Collective.
+/// With `resume` (dynamics only) the run continues a checkpoint at sim.dynamics.t_start: U, V hold
+/// its coordinates and velocities (in the integrator's parametrization), `acceleration` its
+/// acceleration estimate.
 PetscErrorCode simulate(Simulation& sim, SystemAssembler& sa, Vec U, Vec V, bool statics, bool dynamics,
-                        StepObserver* observer, SimulationOutcome* outcome);
+                        StepObserver* observer, SimulationOutcome* outcome, const ResumePoint* resume = nullptr,
+                        Vec acceleration = nullptr);
+
+/// The name a checkpoint gives the model's integrator ("generalized_alpha", "baumgarte").
+const char* integrator_name(IntegratorKind kind);
 
 /// The static equilibrium (as `simulate` with statics only), then the lowest `count` natural
 /// modes about it. U, V: the initial state in, the equilibrium out. `modes` stays empty when the

@@ -74,6 +74,10 @@ Hid create_group(hid_t parent, const std::string& name, const Hdf5Context& ctx) 
                  "create group '" + name + "'");
 }
 
+Hid open_group(hid_t parent, const std::string& name, const Hdf5Context& ctx) {
+  return ctx.own(H5Gopen2(parent, name.c_str(), H5P_DEFAULT), H5Gclose, "open group '" + name + "'");
+}
+
 void write_string_attribute(hid_t obj, const char* name, const std::string& value, const Hdf5Context& ctx) {
   const std::string what = std::string("write attribute '") + name + "'";
   const Hid type = string_type(ctx);
@@ -150,6 +154,34 @@ Series::Series(hid_t parent, const std::string& name, std::vector<hsize_t> row, 
                  dapl.get()),
       H5Dclose, what);
   write_string_attribute(ds_.get(), "units", units, ctx);
+}
+
+Series Series::reopen(hid_t parent, const std::string& name, std::vector<hsize_t> row, hsize_t keep,
+                      const Hdf5Context& ctx, bool single) {
+  const std::string what = "continue dataset '" + name + "'";
+  Series s;
+  s.name_ = name;
+  s.row_ = std::move(row);
+  s.single_ = single;
+  hsize_t size = 1;
+  for (hsize_t d : s.row_) size *= d;
+  s.row_size_ = static_cast<int>(size);
+  s.ds_ = ctx.own(H5Dopen2(parent, name.c_str(), H5P_DEFAULT), H5Dclose, what);
+  const Hid space = ctx.own(H5Dget_space(s.ds_.get()), H5Sclose, what);
+  const int rank = H5Sget_simple_extent_ndims(space.get());
+  std::vector<hsize_t> dims(static_cast<std::size_t>(std::max(rank, 1)));
+  H5Sget_simple_extent_dims(space.get(), dims.data(), nullptr);
+  if (rank != static_cast<int>(s.row_.size()) + 1 || !std::equal(s.row_.begin(), s.row_.end(), dims.begin() + 1))
+    throw std::runtime_error("ResultWriter: '" + ctx.file.string() + "': dataset '" + name +
+                             "' has rows of another shape: the file was written for another model");
+  if (dims[0] < keep)
+    throw std::runtime_error("ResultWriter: '" + ctx.file.string() + "': dataset '" + name + "' holds " +
+                             std::to_string(dims[0]) + " steps, fewer than the " + std::to_string(keep) +
+                             " the checkpoint counts");
+  dims[0] = keep;
+  ctx.check(H5Dset_extent(s.ds_.get(), dims.data()), what);
+  s.written_ = keep;
+  return s;
 }
 
 void Series::append(const double* row) {

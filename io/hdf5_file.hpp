@@ -64,6 +64,8 @@ struct Hdf5Context {
 };
 
 Hid create_group(hid_t parent, const std::string& name, const Hdf5Context& ctx);
+/// An existing group (a results file continued from a checkpoint).
+Hid open_group(hid_t parent, const std::string& name, const Hdf5Context& ctx);
 
 /// Scalar variable-length UTF-8 string attribute.
 void write_string_attribute(hid_t obj, const char* name, const std::string& value, const Hdf5Context& ctx);
@@ -91,6 +93,11 @@ class Series {
   /// Rows are doubles in memory; `single` stores them as 32-bit floats (drawing coordinates).
   Series(hid_t parent, const std::string& name, std::vector<hsize_t> row, const char* units,
          const Hdf5Context& ctx, bool single = false);
+  /// The existing series `name` of an earlier run, cut back to its first `keep` entries, to be
+  /// extended from there (a run continued from a checkpoint). Fails if its rows are not `row`
+  /// or it holds fewer entries.
+  static Series reopen(hid_t parent, const std::string& name, std::vector<hsize_t> row, hsize_t keep,
+                       const Hdf5Context& ctx, bool single = false);
 
   int row_size() const { return row_size_; }
   /// Bytes of the entries kept in memory until write_pending().
@@ -103,6 +110,7 @@ class Series {
   herr_t close() { return ds_.reset(); }
 
  private:
+  Series() = default;
   std::string name_;
   std::vector<hsize_t> row_;
   int row_size_ = 0;

@@ -175,13 +175,16 @@ void read_solver(const InputNode& n, Simulation& sim) {
 }
 
 void read_output(const ReaderContext& ctx, const InputNode& n, Simulation& sim) {
-  n.allow_only({"directory", "name", "interval", "probes"});
+  n.allow_only({"directory", "name", "interval", "checkpoint_interval", "probes"});
   sim.output.directory = n.get_string("directory", sim.output.directory);
   if (auto k = n.get("name")) {
     sim.output.name = k->as_string();
     if (auto why = base_name_problem(sim.output.name)) k->fail(*why);
   }
   sim.output.interval = n.get_non_negative("interval", 0.0);
+  // Simulated seconds between checkpoints (a restart point of the integrator); the end of a run
+  // and an interruption always write one.
+  sim.dynamics.checkpoint_interval = n.get_non_negative("checkpoint_interval", 0.0);
   if (auto p = n.get("probes"))
     for (const InputNode& j : p->items()) sim.output.probe_joints.push_back(ctx.joint(j));
 }

@@ -3,6 +3,7 @@
 #include "io/result_writer.hpp"
 
 #include "core/rotation.hpp"
+#include "io/checkpoint.hpp"
 #include "io/hdf5_file.hpp"
 #include "io/viz_geometry.hpp"
 #include "io/xdmf.hpp"
@@ -69,6 +70,8 @@ struct ResultWriter::Impl {
   std::FILE* probes = nullptr;
   bool closed = false;
   bool broken = false;  // an append failed while writing the .h5
+  bool continuing = false;           // opts.continuation: the files exist
+  std::vector<double> kept_times;    // their kept steps' times (for the XDMF)
 
   // Evaluated once per append, read by several outputs.
   std::optional<io::VizGeometry> viz;
@@ -91,6 +94,11 @@ struct ResultWriter::Impl {
   void write_probe_row(const ModelState& state);
   void add(hid_t group, const std::string& name, std::vector<hsize_t> row, const char* units,
            std::function<void(const ModelState&, double*)> fill, bool single = false);
+  Hid group(hid_t parent, const std::string& name) const {
+    return continuing ? io::open_group(parent, name, ctx) : io::create_group(parent, name, ctx);
+  }
+  void open_existing();
+  void continue_probes();
 };
 
 std::optional<std::string> base_name_problem(const std::string& name) {
@@ -138,6 +146,11 @@ ResultWriter::Impl::Impl(const Model& m, ResultWriterOptions o) : model(m), opts
     }
   }
 
+  continuing = opts.continuation.has_value();
+  if (continuing) {
+    open_existing();
+    return;
+  }
   // A stale XDMF of an earlier run in this folder would point into the .h5 about to be truncated.
   fs::remove(xdmf, ec);
   if (ec) throw std::runtime_error("ResultWriter: cannot remove '" + xdmf.string() + "': " + ec.message());
@@ -149,6 +162,59 @@ ResultWriter::Impl::Impl(const Model& m, ResultWriterOptions o) : model(m), opts
   create_series();
   ctx.check(H5Fflush(file.get(), H5F_SCOPE_GLOBAL), "flush the file");
   write_probe_header();
+}
+
+// The files of the run being continued, cut back to the checkpoint: every series to its first
+// `steps` entries (the datasets keep their size on disk, HDF5 does not shrink files), later
+// checkpoints removed, the CSV to its header and `steps` rows; the XDMF follows at the next flush.
+void ResultWriter::Impl::open_existing() {
+  const ResultContinuation& c = *opts.continuation;
+  std::error_code ec;
+  if (!fs::is_regular_file(h5, ec)) throw std::runtime_error("ResultWriter: cannot continue '" + h5.string() + "': no such file");
+  const io::QuietHdf5Errors quiet;
+  file = ctx.own(H5Fopen(h5.c_str(), H5F_ACC_RDWR, H5P_DEFAULT), H5Fclose, "open the file to continue it");
+  const auto keep = static_cast<hsize_t>(c.steps);
+  {
+    const Hid times = ctx.own(H5Dopen2(file.get(), "time", H5P_DEFAULT), H5Dclose, "open /time");
+    const Hid space = ctx.own(H5Dget_space(times.get()), H5Sclose, "read /time");
+    const hssize_t n = H5Sget_simple_extent_npoints(space.get());
+    if (n < static_cast<hssize_t>(keep))
+      throw std::runtime_error("ResultWriter: '" + h5.string() + "' holds " + std::to_string(n) +
+                               " steps, fewer than the " + std::to_string(keep) + " the checkpoint counts");
+    std::vector<double> all(static_cast<std::size_t>(n));
+    if (n > 0) ctx.check(H5Dread(times.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, all.data()), "read /time");
+    kept_times.assign(all.begin(), all.begin() + static_cast<std::ptrdiff_t>(keep));
+  }
+  remove_checkpoints_after(file.get(), c.time, ctx);
+  // The XDMF names steps about to be dropped: written anew with the first append.
+  fs::remove(xdmf, ec);
+  create_series();
+  steps = static_cast<int>(keep);
+  ctx.check(H5Fflush(file.get(), H5F_SCOPE_GLOBAL), "flush the file");
+  continue_probes();
+}
+
+// The probe CSV cut back to its header and the kept rows, then appended to.
+void ResultWriter::Impl::continue_probes() {
+  std::vector<std::string> lines;
+  if (std::FILE* in = std::fopen(csv.c_str(), "r")) {
+    std::string line;
+    for (int ch; (ch = std::fgetc(in)) != EOF;) {
+      line += static_cast<char>(ch);
+      if (ch == '\n') lines.push_back(std::exchange(line, {}));
+      if (lines.size() > static_cast<std::size_t>(steps)) break;
+    }
+    std::fclose(in);
+  }
+  if (lines.size() != static_cast<std::size_t>(steps) + 1) {
+    write_probe_header();  // missing or short: written anew from here (earlier rows are in the .h5)
+    return;
+  }
+  probes = std::fopen(csv.c_str(), "w");
+  if (!probes) os_fail("create", csv, errno);
+  for (const std::string& l : lines)
+    if (std::fputs(l.c_str(), probes) < 0) os_fail("write", csv, errno);
+  if (std::fflush(probes) != 0) os_fail("write", csv, errno);
 }
 
 ResultWriter::Impl::~Impl() {
@@ -241,7 +307,12 @@ void ResultWriter::Impl::add(hid_t group, const std::string& name, std::vector<h
                              std::function<void(const ModelState&, double*)> fill, bool single) {
   for (hsize_t d : row)
     if (d == 0) return;  // nothing to record, and HDF5 rejects zero chunk dimensions
-  outputs.push_back({io::Series(group, name, std::move(row), units, ctx, single), std::move(fill)});
+  if (continuing)
+    outputs.push_back({io::Series::reopen(group, name, std::move(row), static_cast<hsize_t>(opts.continuation->steps),
+                                          ctx, single),
+                       std::move(fill)});
+  else
+    outputs.push_back({io::Series(group, name, std::move(row), units, ctx, single), std::move(fill)});
 }
 
 void ResultWriter::Impl::create_series() {
@@ -252,7 +323,7 @@ void ResultWriter::Impl::create_series() {
 
   add(root, "time", {}, "s", [](const ModelState& s, double* out) { out[0] = s.time(); });
 
-  const Hid blocks = io::create_group(root, "blocks", ctx);
+  const Hid blocks = group(root, "blocks");
   const hid_t b = blocks.get();
   add(b, "position", {nt, 3}, "m", [this](const ModelState& s, double* out) {
     for (int i : translation) copy3(s.block(i).pos, std::exchange(out, out + 3));
@@ -282,7 +353,7 @@ void ResultWriter::Impl::create_series() {
     for (int i : vectors) copy3(s.block(i).pos, std::exchange(out, out + 3));
   });
 
-  const Hid joints = io::create_group(root, "joints", ctx);
+  const Hid joints = group(root, "joints");
   add(joints.get(), "position", {nj, 3}, "m", [nj](const ModelState& s, double* out) {
     for (hsize_t j = 0; j < nj; ++j) copy3(s.joint_position(static_cast<int>(j)), out + 3 * j);
   });
@@ -290,7 +361,7 @@ void ResultWriter::Impl::create_series() {
     for (hsize_t j = 0; j < nj; ++j) copy3(s.joint_velocity(static_cast<int>(j)), out + 3 * j);
   });
 
-  const Hid constraints = io::create_group(root, "constraints", ctx);
+  const Hid constraints = group(root, "constraints");
   add(constraints.get(), "multipliers", {nm}, "N (length rows), N*m (angle rows)",
       [nc](const ModelState& s, double* out) {
         for (hsize_t c = 0; c < nc; ++c) {
@@ -302,11 +373,11 @@ void ResultWriter::Impl::create_series() {
     for (hsize_t c = 0; c < nc; ++c) out[c] = s.constraint_values(static_cast<int>(c)).cwiseAbs().maxCoeff();
   });
 
-  const Hid elements = io::create_group(root, "elements", ctx);
+  const Hid elements = group(root, "elements");
   add(elements.get(), "axial_force", {ne}, "N",
       [this](const ModelState&, double* out) { std::copy(axial.begin(), axial.end(), out); });
 
-  const Hid drives = io::create_group(root, "drives", ctx);
+  const Hid drives = group(root, "drives");
   const hsize_t nd = model.drives.size();
   add(drives.get(), "value", {nd}, "model units (m, rad, 1)", [this, nd](const ModelState& s, double* out) {
     for (hsize_t d = 0; d < nd; ++d) out[d] = model.drives[d].evaluate(s.time()).value;
@@ -325,7 +396,7 @@ void ResultWriter::Impl::create_series() {
 // The solvers' whole coordinate vector in model order (the same on any number of ranks), so a
 // later model can start from any recorded step (start_state; io/recorded_state.hpp).
 void ResultWriter::Impl::create_state(hsize_t size) {
-  const Hid g = io::create_group(file.get(), "state", ctx);
+  const Hid g = group(file.get(), "state");
   add(g.get(), "coordinates", {size}, "coordinate vector in model order (m, rad, model units, multipliers)",
       [](const ModelState& s, double* out) {
         const std::vector<double> q = s.coordinates_in_model_order();
@@ -336,10 +407,12 @@ void ResultWriter::Impl::create_state(hsize_t size) {
 void ResultWriter::Impl::create_viz() {
   const auto np = static_cast<hsize_t>(viz->num_points()), nl = static_cast<hsize_t>(viz->num_lines());
   if (nl == 0) return;  // nothing to draw: no /viz and no XDMF
-  const Hid g = io::create_group(file.get(), "viz", ctx);
-  io::write_ints(g.get(), "lines", viz->lines(), ctx, 2);
-  io::write_ints(g.get(), "body", viz->line_body(), ctx);
-  io::write_ints(g.get(), "element", viz->line_element(), ctx);
+  const Hid g = group(file.get(), "viz");
+  if (!continuing) {
+    io::write_ints(g.get(), "lines", viz->lines(), ctx, 2);
+    io::write_ints(g.get(), "body", viz->line_body(), ctx);
+    io::write_ints(g.get(), "element", viz->line_element(), ctx);
+  }
   // Drawing coordinates in single precision (7 digits: 5 um on a 50 m crane), half the bytes of
   // the largest dataset; every physical quantity stays double.
   add(g.get(), "points", {np, 3}, "m",
@@ -359,6 +432,7 @@ void ResultWriter::Impl::create_viz() {
   });
   document.emplace(io::XdmfLayout{h5.filename().string(), model.title.empty() ? opts.base_name : model.title,
                                   viz->num_points(), viz->num_lines()});
+  for (double t : kept_times) document->add_step(t);
 }
 
 void ResultWriter::Impl::compute_step(const ModelState& state) {
@@ -506,6 +580,22 @@ void ResultWriter::Impl::flush() {
   if (document) io::replace_file(xdmf, document->text());
   flushed = std::chrono::steady_clock::now();
   unflushed = false;
+}
+
+void ResultWriter::write_checkpoint(const Checkpoint& c) {
+  if (!impl_ || impl_->closed) throw std::logic_error("ResultWriter::write_checkpoint after close()");
+  Impl& w = *impl_;
+  if (w.broken)
+    throw std::logic_error("ResultWriter::write_checkpoint: an earlier append failed writing '" + w.h5.string() + "'");
+  const io::QuietHdf5Errors quiet;
+  w.flush();
+  try {
+    latticedyn::write_checkpoint(w.file.get(), c, w.ctx);
+    w.ctx.check(H5Fflush(w.file.get(), H5F_SCOPE_GLOBAL), "flush the file");
+  } catch (...) {
+    w.broken = true;
+    throw;
+  }
 }
 
 void ResultWriter::close() {

@@ -21,12 +21,23 @@ inline constexpr std::size_t kMaxBaseNameBytes = 200;
 /// control characters. Names never leave their folder.
 std::optional<std::string> base_name_problem(const std::string& name);
 
+struct Checkpoint;
+
+/// A results file continued by a run that resumes from one of its checkpoints.
+struct ResultContinuation {
+  long steps = 0;     ///< output steps kept (those written up to the checkpoint)
+  double time = 0.0;  ///< the checkpoint's time: later checkpoints are removed
+};
+
 /// Where and what to write. Files: <directory>/<base_name>.h5, <base_name>.xdmf and
 /// <base_name>_probes.csv.
 struct ResultWriterOptions {
   std::string directory;               ///< created if missing; empty: the working directory
   std::string base_name = "results";   ///< see base_name_problem
   std::vector<int> probe_joints;       ///< model joint indices written to the CSV, in this order
+  /// Set: the files exist (written for the same model) and are continued after their first
+  /// `steps` output steps instead of created; later steps, CSV rows and checkpoints are dropped.
+  std::optional<ResultContinuation> continuation;
 };
 
 /// Writes one output time per append(). The layout, in full, is in docs/output-format.md; in short
@@ -63,7 +74,7 @@ struct ResultWriterOptions {
 class ResultWriter {
  public:
   /// Creates the directory, the HDF5 file (truncating an existing one) with its static part, and
-  /// the CSV with its header. Throws std::runtime_error naming the path and the operating-system
+  /// the CSV with its header (with a continuation: opens them and cuts them back). Throws std::runtime_error naming the path and the operating-system
   /// or HDF5 reason when a file cannot be created, std::invalid_argument for a bad base name,
   /// probe joint or draw sequence.
   ResultWriter(const Model& model, ResultWriterOptions opts);
@@ -81,6 +92,10 @@ class ResultWriter {
   /// std::invalid_argument for a state of another model, std::logic_error after close() or after
   /// an append that failed writing the .h5 (the files keep every step completed before it).
   void append(const ModelState& state);
+
+  /// Writes a checkpoint (io/checkpoint.hpp) after flushing every step appended so far, so that
+  /// the checkpoint and the steps it counts are on disk together. Throws as append().
+  void write_checkpoint(const Checkpoint& c);
 
   /// Flushes and closes all files. Idempotent.
   void close();

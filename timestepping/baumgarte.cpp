@@ -8,7 +8,8 @@
 
 namespace latticedyn {
 
-BaumgarteIntegrator::BaumgarteIntegrator(SystemAssembler& sa, DynamicSettings settings) : sa_(sa), settings_(settings) {
+BaumgarteIntegrator::BaumgarteIntegrator(SystemAssembler& sa, DynamicSettings settings)
+    : sa_(sa), settings_(settings) {
   const MPI_Comm comm = sa_.comm();
   for (Vec* v : {&U_, &V_, &A_, &b_, &y_, &Ulam0_}) PetscCallAbort(comm, sa_.create_vector(v));
   PetscCallAbort(comm, VecCreateMPI(comm, 2 * sa_.dofs().owned_size(), 2 * sa_.dofs().global_size(), &X_));
@@ -168,28 +169,50 @@ PetscErrorCode BaumgarteIntegrator::post_step(TS ts) {
 PetscErrorCode BaumgarteIntegrator::monitor(TS ts, PetscInt step, PetscReal t, Vec X, void* ctx) {
   auto* self = static_cast<BaumgarteIntegrator*>(ctx);
   PetscFunctionBeginUser;
+  if (self->resumed_step_) {  // the checkpoint's state, recorded by the run that wrote it
+    self->resumed_step_ = false;
+    PetscFunctionReturn(0);
+  }
   PetscCall(self->unpack(X, self->U_, self->V_));
   PetscCall(self->accelerations(t, self->U_, self->V_));  // exact a and lambda at this state
-  PetscReal t_prev;
+  PetscReal t_prev, dt;
   PetscInt rejects;
   PetscCall(TSGetPrevTime(ts, &t_prev));
+  PetscCall(TSGetTimeStep(ts, &dt));
   PetscCall(TSGetStepRejections(ts, &rejects));
-  const StepInfo info{static_cast<int>(step), t, t - t_prev, self->U_, self->V_, self->A_,
-                      Parametrization::velocity_variables, 0, rejects};
+  StepInfo info{static_cast<int>(step), t, t - t_prev, self->U_, self->V_, self->A_,
+                Parametrization::velocity_variables, 0, self->rejection_offset_ + rejects};
+  info.checkpoint = self->checkpoints_.due(t, self->report_->interrupted);
+  info.next_time_step = dt;
   PetscCall(record_step(self->sa_, info, self->report_, self->observer_));
+  // First-same-as-last schemes reuse the last stage: from a checkpoint on the scheme starts
+  // afresh, in this run as in one continued from it.
+  if (info.checkpoint) PetscCall(TSRestartStep(ts));
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode BaumgarteIntegrator::run(Vec U, Vec V, StepObserver* observer, DynamicReport* report) {
+PetscErrorCode BaumgarteIntegrator::run(Vec U, Vec V, StepObserver* observer, DynamicReport* report,
+                                        const ResumePoint* resume) {
   PetscFunctionBeginUser;
-  *report = DynamicReport{};
+  start_report(resume, report);
   observer_ = observer;
   report_ = report;
   solves_ = 0;
+  PetscReal t_begin, t_end;  // -ts_max_time and the like may have changed them
+  PetscCall(TSGetTime(ts_, &t_begin));
+  PetscCall(TSGetMaxTime(ts_, &t_end));
+  checkpoints_ = CheckpointSchedule(settings_.checkpoint_interval, t_begin, t_end);
   const auto start = std::chrono::steady_clock::now();
   PetscCall(VecCopy(U, U_));
   PetscCall(VecCopy(V, V_));
-  PetscCall(sa_.rates_to_velocities(U_, V_));
+  if (resume) {
+    PetscCall(TSSetStepNumber(ts_, resume->step));
+    PetscCall(TSSetTimeStep(ts_, resume->next_time_step));
+    rejection_offset_ = resume->rejected_steps;
+    resumed_step_ = true;
+  } else {
+    PetscCall(sa_.rates_to_velocities(U_, V_));
+  }
   PetscCall(pack(U_, V_, X_));
   PetscCall(TSSolve(ts_, X_));
   PetscCall(unpack(X_, U_, V_));

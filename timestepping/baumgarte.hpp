@@ -18,8 +18,10 @@ class BaumgarteIntegrator {
   BaumgarteIntegrator& operator=(const BaumgarteIntegrator&) = delete;
 
   /// U (coordinates; multipliers are outputs) and V (rotation-vector rates, as everywhere at the
-  /// interface) at t_start in, at the end out. The observer sees velocity variables.
-  PetscErrorCode run(Vec U, Vec V, StepObserver* observer, DynamicReport* report);
+  /// interface) at t_start in, at the end out. The observer sees velocity variables. With
+  /// `resume` the run continues a checkpoint taken at t_start, and V comes in velocity variables
+  /// as the checkpoint keeps them (a conversion would not give back the same bits).
+  PetscErrorCode run(Vec U, Vec V, StepObserver* observer, DynamicReport* report, const ResumePoint* resume = nullptr);
 
   TS ts() const { return ts_; }
 
@@ -40,6 +42,9 @@ class BaumgarteIntegrator {
   Mat S_ = nullptr;
   Vec X_ = nullptr, U_ = nullptr, V_ = nullptr, A_ = nullptr, b_ = nullptr, y_ = nullptr, Ulam0_ = nullptr;
   std::vector<PetscInt> multipliers_;  // owned multiplier rows (local offsets)
+  CheckpointSchedule checkpoints_;
+  bool resumed_step_ = false;  // the first monitor call shows the checkpoint's step: not recorded again
+  long rejection_offset_ = 0;
   StepObserver* observer_ = nullptr;
   DynamicReport* report_ = nullptr;
 };

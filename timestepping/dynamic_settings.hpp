@@ -28,6 +28,24 @@ struct DynamicSettings {
   /// Generalized-alpha: a step's Newton iterations stop when the residual's 2-norm falls below
   /// this fraction of the model's load (its weight and nodal forces), or to its round-off floor.
   double newton_tolerance = 1e-6;
+  /// Simulated seconds between checkpoints (0: only at the end). A checkpoint restarts the
+  /// integrator there (as a rotation rescale does), so a run continued from it repeats the rest of
+  /// the uninterrupted run bit for bit.
+  double checkpoint_interval = 0.0;
+};
+
+/// Where a run continues from a checkpoint: the integrator's state beside the coordinates and
+/// rates (which the caller puts into U and V, V in the integrator's own parametrization) and the
+/// report's counters so far, so that the continued run ends with the whole run's summary.
+struct ResumePoint {
+  long step = 0;                  ///< steps taken up to the checkpoint
+  double next_time_step = 0.0;    ///< the step size the next step takes
+  long newton_iterations = 0;
+  long rejected_steps = 0;
+  long rotation_rescales = 0;
+  long jacobians = 0;
+  double max_violation = 0.0;
+  int violation_constraint = -1;
 };
 
 struct DynamicReport {

@@ -312,6 +312,13 @@ PetscErrorCode GeneralizedAlphaIntegrator::monitor(TS ts, PetscInt step, PetscRe
   PetscCall(TSGetStepRejections(ts, &rejects));
   PetscCall(TSGetTimeStep(ts, &dt));
   PetscCall(TSGetPrevTime(ts, &t_prev));
+  if (self->resumed_step_) {
+    // The checkpoint's state, recorded by the run that wrote it; its acceleration estimate came
+    // with it.
+    self->resumed_step_ = false;
+    PetscCall(VecCopy(V, self->V_prev_));
+    PetscFunctionReturn(0);
+  }
   // TSALPHA2 keeps its acceleration private: output estimates it from the last velocity change.
   if (step > 0 && t > t_prev) {
     PetscCall(VecWAXPY(self->A_est_, -1.0, self->V_prev_, V));
@@ -321,18 +328,43 @@ PetscErrorCode GeneralizedAlphaIntegrator::monitor(TS ts, PetscInt step, PetscRe
   }
   PetscCall(VecCopy(V, self->V_prev_));
 
-  const StepInfo info{static_cast<int>(step), t, t - t_prev, U, V, self->A_est_, Parametrization::rotation_vector_rates,
-                      snes_its, rejects};
+  StepInfo info{static_cast<int>(step), t, t - t_prev, U, V, self->A_est_, Parametrization::rotation_vector_rates,
+                self->iteration_offset_ + snes_its, self->rejection_offset_ + rejects};
+  info.checkpoint = self->checkpoints_.due(t, self->report_->interrupted);
+  info.next_time_step = dt;
+  self->report_->jacobians = self->jacobians_;
   PetscCall(record_step(self->sa_, info, self->report_, self->observer_));
+  if (info.checkpoint) {
+    // TSALPHA2's acceleration is private and cannot be restored: from a checkpoint on, the
+    // integrator starts afresh (its start-up steps, a fresh Jacobian), in this run as in one
+    // continued from it, so that both go on identically.
+    PetscCall(TSRestartStep(ts));
+    self->reuse_count_ = self->settings_.jacobian_reuse;
+  }
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode GeneralizedAlphaIntegrator::run(Vec U, Vec V, StepObserver* observer, DynamicReport* report) {
+PetscErrorCode GeneralizedAlphaIntegrator::run(Vec U, Vec V, StepObserver* observer, DynamicReport* report,
+                                               const ResumePoint* resume, Vec acceleration) {
   PetscFunctionBeginUser;
-  *report = DynamicReport{};
+  start_report(resume, report);
   observer_ = observer;
   report_ = report;
+  PetscReal t_begin, t_end;  // -ts_max_time and the like may have changed them
+  PetscCall(TSGetTime(ts_, &t_begin));
+  PetscCall(TSGetMaxTime(ts_, &t_end));
+  checkpoints_ = CheckpointSchedule(settings_.checkpoint_interval, t_begin, t_end);
   const auto start = std::chrono::steady_clock::now();
+  if (resume) {
+    PetscCall(TSSetStepNumber(ts_, resume->step));
+    PetscCall(TSSetTimeStep(ts_, resume->next_time_step));
+    if (acceleration) PetscCall(VecCopy(acceleration, A_est_));
+    else PetscCall(VecZeroEntries(A_est_));
+    jacobians_ = resume->jacobians;
+    iteration_offset_ = resume->newton_iterations;
+    rejection_offset_ = resume->rejected_steps;
+    resumed_step_ = true;
+  }
   PetscCall(TS2SetSolution(ts_, U, V));
   PetscCall(TSSolve(ts_, U));
   Vec Uend, Vend;

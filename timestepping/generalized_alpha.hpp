@@ -27,8 +27,11 @@ class GeneralizedAlphaIntegrator {
   GeneralizedAlphaIntegrator& operator=(const GeneralizedAlphaIntegrator&) = delete;
 
   /// U (coordinates, multipliers) and V (rotation-vector rates) at t_start in, at the end (or
-  /// where it failed) out. The observer sees the initial state and every accepted step.
-  PetscErrorCode run(Vec U, Vec V, StepObserver* observer, DynamicReport* report);
+  /// where it failed) out. The observer sees the initial state and every accepted step. With
+  /// `resume` the run continues a checkpoint taken at t_start: `acceleration` is its acceleration
+  /// estimate (the predictor's), and the checkpoint's own step is not shown again.
+  PetscErrorCode run(Vec U, Vec V, StepObserver* observer, DynamicReport* report, const ResumePoint* resume = nullptr,
+                     Vec acceleration = nullptr);
 
   TS ts() const { return ts_; }
 
@@ -51,6 +54,9 @@ class GeneralizedAlphaIntegrator {
   double last_fnorm_ = 0.0;                             // residual norm of the last Newton iterate
   long jacobians_ = 0;                                  // Jacobians assembled in the run
   std::string domain_error_;                            // the last element evaluated outside its domain
+  CheckpointSchedule checkpoints_;
+  bool resumed_step_ = false;  // the first monitor call shows the checkpoint's step: not recorded again
+  long rejection_offset_ = 0, iteration_offset_ = 0;  // counted before the checkpoint
   PetscBool predictor_ = PETSC_TRUE;                    // -dyn_predictor: Newton starts from a Taylor guess
   TS ts_ = nullptr;
   KSP ksp_ = nullptr;  // the Newton solver's linear solver (ts_ owns it)

@@ -3,7 +3,9 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <cstdio>
+#include <limits>
 #include <string>
 #include <string_view>
 
@@ -160,10 +162,41 @@ PetscErrorCode record_step(SystemAssembler& sa, const StepInfo& info, DynamicRep
   r->newton_iterations = info.newton_iterations;
   r->rejected_steps = info.rejected_steps;
   if (observer) {
-    PetscCall(observer->on_step(info));
+    StepInfo seen = info;
+    seen.report = r;
+    PetscCall(observer->on_step(seen));
     if (observer->stop_requested()) r->interrupted = true;
   }
   PetscFunctionReturn(0);
+}
+
+CheckpointSchedule::CheckpointSchedule(double interval, double t_start, double t_end)
+    : interval_(interval), t_end_(t_end), next_(next_after(t_start)) {}
+
+double CheckpointSchedule::next_after(double t) const {
+  if (interval_ <= 0.0) return std::numeric_limits<double>::infinity();
+  const double eps = 1e-9 * std::max(1.0, std::abs(t));
+  return (std::floor((t + eps) / interval_) + 1.0) * interval_;
+}
+
+bool CheckpointSchedule::due(double t, bool stopping) {
+  const double eps = 1e-9 * std::max(1.0, std::abs(t));
+  if (stopping || t >= t_end_ - eps) return true;
+  if (t < next_ - eps) return false;
+  next_ = next_after(t);
+  return true;
+}
+
+void start_report(const ResumePoint* resume, DynamicReport* report) {
+  *report = DynamicReport{};
+  if (!resume) return;
+  report->steps = resume->step;
+  report->newton_iterations = resume->newton_iterations;
+  report->rejected_steps = resume->rejected_steps;
+  report->rotation_rescales = resume->rotation_rescales;
+  report->jacobians = resume->jacobians;
+  report->max_violation = resume->max_violation;
+  report->violation_constraint = resume->violation_constraint;
 }
 
 std::string describe_violation(const Model& model, double value, int constraint) {

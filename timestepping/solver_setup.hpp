@@ -43,6 +43,11 @@ struct StepInfo {
   Parametrization param = Parametrization::rotation_vector_rates;
   long newton_iterations = 0;  ///< cumulative
   long rejected_steps = 0;     ///< cumulative
+  /// A checkpoint is due here: the integrator restarts after this step, and the observer keeps
+  /// what continues the run (U, V, A as they are, next_time_step, the report).
+  bool checkpoint = false;
+  double next_time_step = 0.0;          ///< the step size the next step will take
+  const DynamicReport* report = nullptr;  ///< the run so far (set by record_step)
 };
 
 class StepObserver {
@@ -54,10 +59,27 @@ class StepObserver {
   virtual bool stop_requested() { return false; }
 };
 
+/// When checkpoints fall: on the grid of multiples of `interval` simulated seconds (0: none on
+/// the way), at the end of the run and where it stops on request. A run continued from a
+/// checkpoint builds its schedule from the checkpoint's time and meets the same grid.
+class CheckpointSchedule {
+ public:
+  CheckpointSchedule(double interval = 0.0, double t_start = 0.0, double t_end = 0.0);
+  /// Whether the state at t (after an accepted step) is a checkpoint; moves on past t if so.
+  bool due(double t, bool stopping);
+
+ private:
+  double next_after(double t) const;
+  double interval_, t_end_, next_;
+};
+
 /// After an accepted step: updates the report (time, steps, iterations, rejections, the largest
 /// constraint violation so far), hands the step to the observer (if any) and marks the report
 /// interrupted when the observer asks to stop. Collective.
 PetscErrorCode record_step(SystemAssembler& sa, const StepInfo& info, DynamicReport* report, StepObserver* observer);
+
+/// The report's counters from where a continued run resumes (ResumePoint), or zero.
+void start_report(const ResumePoint* resume, DynamicReport* report);
 
 /// "constraint 'hinge' (revolute), |g| = 1.2e-3" or "no constraints".
 std::string describe_violation(const Model& model, double value, int constraint);

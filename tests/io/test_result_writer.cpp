@@ -281,7 +281,7 @@ TEST(ResultWriter, RoundTripOfThreeSteps) {
   Recording run(testing::kitchen_sink_model(), 3);
   const Model& model = run.model;
   const int probe_d = model.find_joint("d.1"), probe_a = model.find_joint("a.0");
-  ResultWriter writer(model, {dir.path.string(), "results", {probe_d, probe_a}});
+  ResultWriter writer(model, {dir.path.string(), "results", {probe_d, probe_a}, {}});
   EXPECT_EQ(writer.h5_path(), dir.path / "results.h5");
   for (const auto& s : run.states) writer.append(s);
   EXPECT_EQ(writer.steps_written(), 3);
@@ -463,7 +463,7 @@ TEST(ResultWriter, RoundTripOfThreeSteps) {
 TEST(ResultWriter, RecordsTheCoordinatesAStartStateReadsBack) {
   ScratchDir dir;
   Recording run(testing::kitchen_sink_model(), 3);
-  ResultWriter writer(run.model, {dir.path.string(), "results", {}});
+  ResultWriter writer(run.model, {dir.path.string(), "results", {}, {}});
   for (const auto& s : run.states) writer.append(s);
   writer.close();
   {
@@ -497,7 +497,7 @@ TEST(ResultWriter, RecordsTheCoordinatesAStartStateReadsBack) {
 TEST(ResultWriter, FilesAreReadableWhileTheWriterIsOpen) {
   ScratchDir dir;
   Recording run(testing::kitchen_sink_model(), 2);
-  ResultWriter writer(run.model, {dir.path.string(), "partial", {0}});
+  ResultWriter writer(run.model, {dir.path.string(), "partial", {0}, {}});
   for (const auto& s : run.states) writer.append(s);
 
   // What a killed process leaves is the file's bytes on disk: read a copy of them.
@@ -535,7 +535,7 @@ TEST(ResultWriter, ModelWithoutConstraintsAndDrawSequences) {
   Recording run(b.build(), 2);
 
   ScratchDir dir;
-  ResultWriter writer(run.model, {dir.path.string(), "free", {}});
+  ResultWriter writer(run.model, {dir.path.string(), "free", {}, {}});
   for (const auto& s : run.states) writer.append(s);
   writer.close();
 
@@ -592,7 +592,7 @@ bodies:
   ASSERT_EQ(model.elements.size(), 1u);
   const auto& truss = dynamic_cast<const SuperTrussElement&>(*model.elements[0].element);
   ScratchDir dir;
-  ResultWriter writer(model, {dir.path.string(), "truss", {}});
+  ResultWriter writer(model, {dir.path.string(), "truss", {}, {}});
   for (const auto& s : run.states) writer.append(s);
   writer.close();
 
@@ -625,10 +625,10 @@ TEST(ResultWriter, ANewRunTruncatesTheFilesOfTheLast) {
   ScratchDir dir;
   Recording run(testing::kitchen_sink_model(), 2);
   {
-    ResultWriter first(run.model, {dir.path.string(), "results", {}});
+    ResultWriter first(run.model, {dir.path.string(), "results", {}, {}});
     for (const auto& s : run.states) first.append(s);
   }
-  ResultWriter second(run.model, {dir.path.string(), "results", {}});
+  ResultWriter second(run.model, {dir.path.string(), "results", {}, {}});
   EXPECT_FALSE(fs::exists(second.xdmf_path()));  // it would describe steps the new .h5 lacks
   H5File f(second.h5_path());
   ASSERT_GE(f.id, 0);
@@ -645,7 +645,7 @@ TEST(ResultWriter, UnwritableLocationsNameThePath) {
   std::ofstream(dir.path / "plain_file") << "x";
   const fs::path below_file = dir.path / "plain_file" / "out";
   try {
-    ResultWriter w(model, {below_file.string(), "results", {}});
+    ResultWriter w(model, {below_file.string(), "results", {}, {}});
     FAIL() << "no exception";
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find(below_file.string()), std::string::npos) << e.what();
@@ -654,7 +654,7 @@ TEST(ResultWriter, UnwritableLocationsNameThePath) {
   // The .h5 path taken by a directory: H5Fcreate fails; the message carries HDF5's reason.
   fs::create_directories(dir.path / "taken" / "results.h5");
   try {
-    ResultWriter w(model, {(dir.path / "taken").string(), "results", {}});
+    ResultWriter w(model, {(dir.path / "taken").string(), "results", {}, {}});
     FAIL() << "no exception";
   } catch (const std::runtime_error& e) {
     const std::string what = e.what();
@@ -666,11 +666,11 @@ TEST(ResultWriter, UnwritableLocationsNameThePath) {
 TEST(ResultWriter, RejectsBadOptions) {
   ScratchDir dir;
   Model model = testing::kitchen_sink_model();
-  EXPECT_THROW(ResultWriter(model, {dir.path.string(), "results", {99}}), std::invalid_argument);
-  EXPECT_THROW(ResultWriter(model, {dir.path.string(), "a:b", {}}), std::invalid_argument);
-  EXPECT_THROW(ResultWriter(model, {dir.path.string(), "", {}}), std::invalid_argument);
+  EXPECT_THROW(ResultWriter(model, {dir.path.string(), "results", {99}, {}}), std::invalid_argument);
+  EXPECT_THROW(ResultWriter(model, {dir.path.string(), "a:b", {}, {}}), std::invalid_argument);
+  EXPECT_THROW(ResultWriter(model, {dir.path.string(), "", {}, {}}), std::invalid_argument);
   model.bodies[1].draw_sequence = {0, 5};
-  EXPECT_THROW(ResultWriter(model, {dir.path.string(), "results", {}}), std::invalid_argument);
+  EXPECT_THROW(ResultWriter(model, {dir.path.string(), "results", {}, {}}), std::invalid_argument);
 }
 
 }  // namespace
