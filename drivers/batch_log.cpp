@@ -1,6 +1,7 @@
 // Case records as text lines: "case <index> ok|failed <evaluations> <newton> <wall> <slope> |
-// <values> | <state> | <error> | end", numbers with 17 digits so that a resumed chain starts from the
-// bit-identical state.
+// <values> | <state> | [chain <s> <state> | ]<error> | end", numbers with 17 digits so that a
+// resumed chain starts from the bit-identical state (records without the chain part, written
+// before it existed, still read).
 #include "drivers/batch_log.hpp"
 
 #include <algorithm>
@@ -68,6 +69,16 @@ bool parse_record(const std::string& full, CaseRecord* r) {
   r->values = parse_numbers(parts[1]);
   r->state = parse_numbers(parts[2]);
   r->error = parts[3];
+  const std::string chain = "chain ";
+  if (r->error.compare(0, chain.size(), chain) == 0) {
+    const std::size_t bar = r->error.find(" | ");
+    if (bar == std::string::npos) return false;
+    std::vector<double> point = parse_numbers(r->error.substr(chain.size(), bar - chain.size()));
+    if (point.empty()) return false;
+    r->chain_s = point.front();
+    r->chain_state.assign(point.begin() + 1, point.end());
+    r->error = r->error.substr(bar + 3);
+  }
   return true;
 }
 
@@ -128,9 +139,15 @@ void CaseLog::append(const CaseRecord& r) {
   std::string error = r.error;
   for (char& c : error)
     if (c == '\n' || c == '\r') c = ' ';
-  std::fprintf(file_, "case %d %s %d %d %.6g %.17g | %s | %s | %s | end\n", r.index, r.ok ? "ok" : "failed", r.evaluations,
-               r.newton_iterations, r.wall_seconds, r.slope, numbers(r.values).c_str(), numbers(r.state).c_str(),
-               error.c_str());
+  std::string chain;
+  if (!r.chain_state.empty()) {
+    std::vector<double> point{r.chain_s};
+    point.insert(point.end(), r.chain_state.begin(), r.chain_state.end());
+    chain = "chain " + numbers(point) + " | ";
+  }
+  std::fprintf(file_, "case %d %s %d %d %.6g %.17g | %s | %s | %s%s | end\n", r.index, r.ok ? "ok" : "failed",
+               r.evaluations, r.newton_iterations, r.wall_seconds, r.slope, numbers(r.values).c_str(),
+               numbers(r.state).c_str(), chain.c_str(), error.c_str());
   if (std::fflush(file_) != 0) throw std::runtime_error("cannot write " + path_.string() + ": " + std::strerror(errno));
 }
 

@@ -20,6 +20,11 @@ struct CaseRecord {
   double slope = 0.0;        ///< target cases: d(adjusted value) / d(measure) at the solution
   std::vector<double> values;  ///< the result columns (BatchRunner::result_columns)
   std::vector<double> state;   ///< equilibrium coordinates and multipliers (static cases)
+  /// Target cases: the earlier point of the chain's history after the case (a secant probe or
+  /// an earlier equilibrium; empty when there is none). With (adjusted value, state) it is what
+  /// the chain's next case extrapolates its start from, so a resume rebuilds it exactly.
+  double chain_s = 0.0;
+  std::vector<double> chain_state;
   std::string error;
 };
 

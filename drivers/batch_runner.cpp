@@ -148,6 +148,10 @@ CaseRecord solve_case(const BatchSpec& spec, const BatchCase& bc, CaseSolver& so
                              ev.ok ? ev.measures : std::vector<double>{});
     if (done) {
       r.state = ev.state;
+      if (const ChainPoint* p = history.earlier()) {  // recorded, so that a resume rebuilds the history
+        r.chain_s = p->s;
+        r.chain_state = p->state;
+      }
       carry->history = std::move(history);  // ends with this equilibrium
       carry->goal = goal;
       carry->slope = slope;
@@ -161,11 +165,17 @@ CaseRecord solve_case(const BatchSpec& spec, const BatchCase& bc, CaseSolver& so
 void restore_carry(const BatchSpec& spec, const BatchCase& bc, const CaseRecord& r, ChainCarry* carry) {
   if (!r.ok || r.state.empty() || !spec.warm_start) return;
   if (spec.target_parameter >= 0) {
+    // The history the case ended with: its recorded earlier point, then its equilibrium (records
+    // from before the earlier point was kept: the chain's equilibria, the same up to round-off).
+    if (!r.chain_state.empty()) {
+      carry->history = ChainHistory();
+      carry->history.add(r.chain_s, r.chain_state);
+    }
     carry->history.add(r.values.at(0), r.state);
     carry->goal = bc.values[spec.target_parameter];
     carry->slope = r.slope;
   } else {
-    carry->history.add(bc.values.back(), r.state);
+    carry->history.add(bc.values.empty() ? 0.0 : bc.values.back(), r.state);  // as solve_case adds it
   }
 }
 }  // namespace

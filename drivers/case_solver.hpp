@@ -96,6 +96,8 @@ class ChainHistory {
     return out;
   }
   const ChainPoint& last() const { return points_.back(); }
+  /// The earlier of the two points, if there are two.
+  const ChainPoint* earlier() const { return points_.size() == 2 ? &points_.front() : nullptr; }
 
  private:
   std::vector<ChainPoint> points_;
