@@ -16,14 +16,36 @@
 
 #include <algorithm>
 #include <array>
-#include <mutex>
 #include <cmath>
+#include <mutex>
+#include <new>
+#include <string>
 #include <stdexcept>
 #include <typeinfo>
 
 namespace latticedyn {
 
 namespace {
+
+// The exception being handled, for the failure message that ends a run if cutting the step does
+// not help: an element outside its domain says so; anything else names where it came from.
+std::string describe_current_exception(const std::string& where) {
+  try {
+    throw;
+  } catch (const std::domain_error& e) {
+    return std::string("an element was evaluated outside its domain: ") + e.what();
+  } catch (const std::bad_alloc&) {
+    return "evaluating " + where + " ran out of memory";
+  } catch (const std::exception& e) {
+    return "evaluating " + where + " failed: " + e.what();
+  } catch (...) {
+    return "evaluating " + where + " failed with an exception that is not a std::exception";
+  }
+}
+
+std::string describe_current_exception(const Element& e) {
+  return describe_current_exception("a " + std::string(e.type_name()) + " element");
+}
 
 using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
@@ -318,10 +340,11 @@ PetscErrorCode SystemAssembler::residual(const EvaluationPoint& at, const Evalua
       } else {
         run.elements[0]->residual_batch(run.element_span(), run.state_span(), ctx, {out, run.size()});
       }
-    } catch (const std::domain_error& e) {
-      // Outside an element's domain (a rope's rest length through zero): NaN marks the residual
-      // not finite, so the integrator cuts the step instead of the run ending in an exception.
-      record_evaluation_error(e.what());
+    } catch (...) {
+      // Outside an element's domain (a rope's rest length through zero), or any other failure of
+      // its evaluation: NaN marks the residual not finite, so the integrator cuts the step (a
+      // domain error) instead of an exception unwinding through PETSc.
+      record_evaluation_error(describe_current_exception(*run.elements[0]));
       for (int k = 0; k < run.count; ++k) out[k].setConstant(run.elements[k]->num_dofs(), std::nan(""));
     }
   };
@@ -354,48 +377,56 @@ PetscErrorCode SystemAssembler::residual(const EvaluationPoint& at, const Evalua
   PetscCall(PetscLogEventBegin(events.constraints, 0, 0, 0, 0));
   auto state_of = [this](int b) -> const BlockState& { return state_[b]; };
   auto state_c_of = [this](int b) -> const BlockState& { return state_c_[b]; };
-  for (int l : dofs_.local_loads()) {
-    const NodalLoad& load = model_.loads[l];
-    const double scale = how.load_scale * (load.drive >= 0 ? model_.drives[load.drive].evaluate(at.t).value : 1.0);
-    const LoadEval le = evaluate_load(model_, load, state_of, scale, false);
-    for (int k = 0; k < 2; ++k)
-      if (le.blocks[k] >= 0) {
-        const int lo = local_offset(le.blocks[k]);
-        for (int i = 0; i < 3; ++i) r[lo + i] -= le.f(3 * k + i);
-      }
-  }
+  // Loads and constraints evaluated without an exception leaving (it would unwind through PETSc):
+  // a failure there marks the residual not finite, as an element's does.
+  bool failed = false;
+  try {
+    for (int l : dofs_.local_loads()) {
+      const NodalLoad& load = model_.loads[l];
+      const double scale = how.load_scale * (load.drive >= 0 ? model_.drives[load.drive].evaluate(at.t).value : 1.0);
+      const LoadEval le = evaluate_load(model_, load, state_of, scale, false);
+      for (int k = 0; k < 2; ++k)
+        if (le.blocks[k] >= 0) {
+          const int lo = local_offset(le.blocks[k]);
+          for (int i = 0; i < 3; ++i) r[lo + i] -= le.f(3 * k + i);
+        }
+    }
 
-  for (int c : dofs_.local_constraints()) {
-    const Constraint& con = model_.constraints[c];
-    const int mo = local_multiplier_offset_[c];
-    ConstraintInputs in;
-    in.model = &model_;
-    in.constraint = &con;
-    in.block_state = state_of;
-    in.drive = con.drive >= 0 ? model_.drives[con.drive].evaluate(at.t) : DriveValue{};
-    in.with_velocity_terms = how.rows == ConstraintRows::acceleration;
-    const ConstraintEval ce = evaluate_constraint(in);
-    for (int k = 0; k < 4 && ce.blocks[k] >= 0; ++k) {
-      const int lo = local_offset(ce.blocks[k]);
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < ce.rows; ++j) r[lo + i] += ce.G(j, 3 * k + i) * uc[mo + j];
-    }
-    if (how.rows == ConstraintRows::acceleration) {
-      const double al = how.baumgarte_alpha, be = how.baumgarte_beta;
-      // G a + Gamma* = 0 (4-3, 4-27): the second time derivative of g, stabilised.
-      for (int j = 0; j < ce.rows; ++j) {
-        double ga = 0.0;
-        for (int k = 0; k < 4 && ce.blocks[k] >= 0; ++k) ga += ce.G.block<1, 3>(j, 3 * k).dot(state_[ce.blocks[k]].acc);
-        r[mo + j] = ga + ce.gamma(j) + 2 * al * be * ce.g_dot(j) + al * al * ce.g(j);
+    for (int c : dofs_.local_constraints()) {
+      const Constraint& con = model_.constraints[c];
+      const int mo = local_multiplier_offset_[c];
+      ConstraintInputs in;
+      in.model = &model_;
+      in.constraint = &con;
+      in.block_state = state_of;
+      in.drive = con.drive >= 0 ? model_.drives[con.drive].evaluate(at.t) : DriveValue{};
+      in.with_velocity_terms = how.rows == ConstraintRows::acceleration;
+      const ConstraintEval ce = evaluate_constraint(in);
+      for (int k = 0; k < 4 && ce.blocks[k] >= 0; ++k) {
+        const int lo = local_offset(ce.blocks[k]);
+        for (int i = 0; i < 3; ++i)
+          for (int j = 0; j < ce.rows; ++j) r[lo + i] += ce.G(j, 3 * k + i) * uc[mo + j];
       }
-    } else {
-      ConstraintInputs inc = in;
-      inc.block_state = state_c_of;
-      inc.drive = con.drive >= 0 ? model_.drives[con.drive].evaluate(at.tc) : DriveValue{};
-      inc.with_velocity_terms = false;
-      const ConstraintEval cc = separate_uc_ || at.tc != at.t ? evaluate_constraint(inc) : ce;
-      for (int j = 0; j < ce.rows; ++j) r[mo + j] = how.constraint_scale * cc.g(j);
+      if (how.rows == ConstraintRows::acceleration) {
+        const double al = how.baumgarte_alpha, be = how.baumgarte_beta;
+        // G a + Gamma* = 0 (4-3, 4-27): the second time derivative of g, stabilised.
+        for (int j = 0; j < ce.rows; ++j) {
+          double ga = 0.0;
+          for (int k = 0; k < 4 && ce.blocks[k] >= 0; ++k) ga += ce.G.block<1, 3>(j, 3 * k).dot(state_[ce.blocks[k]].acc);
+          r[mo + j] = ga + ce.gamma(j) + 2 * al * be * ce.g_dot(j) + al * al * ce.g(j);
+        }
+      } else {
+        ConstraintInputs inc = in;
+        inc.block_state = state_c_of;
+        inc.drive = con.drive >= 0 ? model_.drives[con.drive].evaluate(at.tc) : DriveValue{};
+        inc.with_velocity_terms = false;
+        const ConstraintEval cc = separate_uc_ || at.tc != at.t ? evaluate_constraint(inc) : ce;
+        for (int j = 0; j < ce.rows; ++j) r[mo + j] = how.constraint_scale * cc.g(j);
+      }
     }
+  } catch (...) {
+    record_evaluation_error(describe_current_exception("loads and constraints"));
+    failed = true;
   }
   PetscCall(PetscLogEventEnd(events.constraints, 0, 0, 0, 0));
 
@@ -408,8 +439,8 @@ PetscErrorCode SystemAssembler::residual(const EvaluationPoint& at, const Evalua
         for (int i = 0; i < 3; ++i) r[lo + i] = rb(i);
       }
 
-  PetscBool ok = PETSC_TRUE;
-  for (int i = 0; i < local_size_; ++i)
+  PetscBool ok = failed ? PETSC_FALSE : PETSC_TRUE;
+  for (int i = 0; i < local_size_ && ok; ++i)
     if (!std::isfinite(r[i])) {
       ok = PETSC_FALSE;
       break;
@@ -456,8 +487,8 @@ PetscErrorCode SystemAssembler::jacobian(const EvaluationPoint& at, const Evalua
         run.elements[0]->tangents(run.states[0], ctx, out[0]);
       else
         run.elements[0]->tangents_batch(run.element_span(), run.state_span(), ctx, {out, run.size()});
-    } catch (const std::domain_error& e) {
-      record_evaluation_error(e.what());
+    } catch (...) {
+      record_evaluation_error(describe_current_exception(*run.elements[0]));
       for (int k = 0; k < run.count; ++k) {
         out[k].resize(run.elements[k]->num_dofs());
         for (auto* m : {&out[k].K, &out[k].C, &out[k].M}) m->setConstant(std::nan(""));
@@ -486,81 +517,85 @@ PetscErrorCode SystemAssembler::jacobian(const EvaluationPoint& at, const Evalua
   auto state_of = [this](int b) -> const BlockState& { return state_[b]; };
   auto state_c_of = [this](int b) -> const BlockState& { return state_c_[b]; };
   const Eigen::Matrix3d zero3 = Eigen::Matrix3d::Zero();
-  for (int l : dofs_.local_loads()) {
-    const NodalLoad& load = model_.loads[l];
-    const double scale = how.load_scale * (load.drive >= 0 ? model_.drives[load.drive].evaluate(at.t).value : 1.0);
-    const LoadEval le = evaluate_load(model_, load, state_of, scale, true);
-    if (le.blocks[1] >= 0) y[le.blocks[1]] -= le.f.tail<3>();
-    for (int ki = 0; ki < 2; ++ki)
-      for (int kj = 0; kj < 2; ++kj) {
-        if (le.blocks[ki] < 0 || le.blocks[kj] < 0) continue;
-        const Eigen::Matrix3d K = -le.K.block<3, 3>(3 * ki, 3 * kj);
-        if (K.isZero(0.0)) continue;
-        const Eigen::Matrix<double, 3, 3, Eigen::RowMajor> blk = chain_block(le.blocks[ki], le.blocks[kj], K, zero3, zero3);
-        PetscInt ri = dofs_.block_dof(le.blocks[ki]), cj = dofs_.block_dof(le.blocks[kj]);
-        PetscInt rows[3] = {ri, ri + 1, ri + 2}, cols[3] = {cj, cj + 1, cj + 2};
-        PetscCall(MatSetValues(J, 3, rows, 3, cols, blk.data(), ADD_VALUES));
-      }
-  }
-
-  for (int c : dofs_.local_constraints()) {
-    const Constraint& con = model_.constraints[c];
-    const int mo = local_multiplier_offset_[c];
-    const int m = con.rows();
-    ConstraintInputs in;
-    in.model = &model_;
-    in.constraint = &con;
-    in.block_state = state_of;
-    in.drive = con.drive >= 0 ? model_.drives[con.drive].evaluate(at.t) : DriveValue{};
-    in.lambda = uc + mo;
-    const ConstraintEval ce = evaluate_constraint(in);
-    const int nblk = ce.cols / 3;
-    std::vector<PetscInt> mult(m);
-    for (int j = 0; j < m; ++j) mult[j] = dofs_.multiplier_dof(c) + j;
-
-    for (int ki = 0; ki < nblk; ++ki) {
-      const int bi = ce.blocks[ki];
-      y[bi] += (ce.G.block(0, 3 * ki, m, 3).transpose() * Eigen::Map<const Eigen::VectorXd>(uc + mo, m)).eval();
-      PetscInt ri = dofs_.block_dof(bi);
-      PetscInt rows[3] = {ri, ri + 1, ri + 2};
-      // Geometric stiffness d(G^T lambda)/dq.
-      for (int kj = 0; kj < nblk; ++kj) {
-        const int bj = ce.blocks[kj];
-        const Eigen::Matrix<double, 3, 3, Eigen::RowMajor> blk = chain_block(bi, bj, ce.H.block<3, 3>(3 * ki, 3 * kj), zero3, zero3);
-        PetscInt cj = dofs_.block_dof(bj);
-        PetscInt cols[3] = {cj, cj + 1, cj + 2};
-        PetscCall(MatSetValues(J, 3, rows, 3, cols, blk.data(), ADD_VALUES));
-      }
-      // Multiplier columns: rows_I G^T, times dUc/dU since lambda is read from Uc.
-      RowMajor gt = how.uc_per_u * chain_[bi].rows * ce.G.block(0, 3 * ki, m, 3).transpose();
-      PetscCall(MatSetValues(J, 3, rows, m, mult.data(), gt.data(), ADD_VALUES));
+  try {  // a failure marks the Jacobian unusable (evaluation_error), as an element's does
+    for (int l : dofs_.local_loads()) {
+      const NodalLoad& load = model_.loads[l];
+      const double scale = how.load_scale * (load.drive >= 0 ? model_.drives[load.drive].evaluate(at.t).value : 1.0);
+      const LoadEval le = evaluate_load(model_, load, state_of, scale, true);
+      if (le.blocks[1] >= 0) y[le.blocks[1]] -= le.f.tail<3>();
+      for (int ki = 0; ki < 2; ++ki)
+        for (int kj = 0; kj < 2; ++kj) {
+          if (le.blocks[ki] < 0 || le.blocks[kj] < 0) continue;
+          const Eigen::Matrix3d K = -le.K.block<3, 3>(3 * ki, 3 * kj);
+          if (K.isZero(0.0)) continue;
+          const Eigen::Matrix<double, 3, 3, Eigen::RowMajor> blk = chain_block(le.blocks[ki], le.blocks[kj], K, zero3, zero3);
+          PetscInt ri = dofs_.block_dof(le.blocks[ki]), cj = dofs_.block_dof(le.blocks[kj]);
+          PetscInt rows[3] = {ri, ri + 1, ri + 2}, cols[3] = {cj, cj + 1, cj + 2};
+          PetscCall(MatSetValues(J, 3, rows, 3, cols, blk.data(), ADD_VALUES));
+        }
     }
 
-    // Constraint rows.
-    RowMajor grow;
-    if (how.rows == ConstraintRows::acceleration) {
-      for (int kj = 0; kj < nblk; ++kj) {
-        const int bj = ce.blocks[kj];
-        grow = ca * ce.G.block(0, 3 * kj, m, 3);
-        PetscInt cj = dofs_.block_dof(bj);
-        PetscInt cols[3] = {cj, cj + 1, cj + 2};
-        PetscCall(MatSetValues(J, m, mult.data(), 3, cols, grow.data(), ADD_VALUES));
+    for (int c : dofs_.local_constraints()) {
+      const Constraint& con = model_.constraints[c];
+      const int mo = local_multiplier_offset_[c];
+      const int m = con.rows();
+      ConstraintInputs in;
+      in.model = &model_;
+      in.constraint = &con;
+      in.block_state = state_of;
+      in.drive = con.drive >= 0 ? model_.drives[con.drive].evaluate(at.t) : DriveValue{};
+      in.lambda = uc + mo;
+      const ConstraintEval ce = evaluate_constraint(in);
+      const int nblk = ce.cols / 3;
+      std::vector<PetscInt> mult(m);
+      for (int j = 0; j < m; ++j) mult[j] = dofs_.multiplier_dof(c) + j;
+
+      for (int ki = 0; ki < nblk; ++ki) {
+        const int bi = ce.blocks[ki];
+        y[bi] += (ce.G.block(0, 3 * ki, m, 3).transpose() * Eigen::Map<const Eigen::VectorXd>(uc + mo, m)).eval();
+        PetscInt ri = dofs_.block_dof(bi);
+        PetscInt rows[3] = {ri, ri + 1, ri + 2};
+        // Geometric stiffness d(G^T lambda)/dq.
+        for (int kj = 0; kj < nblk; ++kj) {
+          const int bj = ce.blocks[kj];
+          const Eigen::Matrix<double, 3, 3, Eigen::RowMajor> blk = chain_block(bi, bj, ce.H.block<3, 3>(3 * ki, 3 * kj), zero3, zero3);
+          PetscInt cj = dofs_.block_dof(bj);
+          PetscInt cols[3] = {cj, cj + 1, cj + 2};
+          PetscCall(MatSetValues(J, 3, rows, 3, cols, blk.data(), ADD_VALUES));
+        }
+        // Multiplier columns: rows_I G^T, times dUc/dU since lambda is read from Uc.
+        RowMajor gt = how.uc_per_u * chain_[bi].rows * ce.G.block(0, 3 * ki, m, 3).transpose();
+        PetscCall(MatSetValues(J, 3, rows, m, mult.data(), gt.data(), ADD_VALUES));
       }
-    } else {
-      ConstraintInputs inc = in;
-      inc.block_state = state_c_of;
-      inc.lambda = nullptr;
-      inc.drive = con.drive >= 0 ? model_.drives[con.drive].evaluate(at.tc) : DriveValue{};
-      const ConstraintEval cc = evaluate_constraint(inc);
-      for (int kj = 0; kj < cc.cols / 3; ++kj) {
-        const int bj = cc.blocks[kj];
-        grow = (cq * how.constraint_scale * how.uc_per_u) * cc.G.block(0, 3 * kj, m, 3) * chain_c_[bj].col_K;
-        PetscInt cj = dofs_.block_dof(bj);
-        PetscInt cols[3] = {cj, cj + 1, cj + 2};
-        PetscCall(MatSetValues(J, m, mult.data(), 3, cols, grow.data(), ADD_VALUES));
+
+      // Constraint rows.
+      RowMajor grow;
+      if (how.rows == ConstraintRows::acceleration) {
+        for (int kj = 0; kj < nblk; ++kj) {
+          const int bj = ce.blocks[kj];
+          grow = ca * ce.G.block(0, 3 * kj, m, 3);
+          PetscInt cj = dofs_.block_dof(bj);
+          PetscInt cols[3] = {cj, cj + 1, cj + 2};
+          PetscCall(MatSetValues(J, m, mult.data(), 3, cols, grow.data(), ADD_VALUES));
+        }
+      } else {
+        ConstraintInputs inc = in;
+        inc.block_state = state_c_of;
+        inc.lambda = nullptr;
+        inc.drive = con.drive >= 0 ? model_.drives[con.drive].evaluate(at.tc) : DriveValue{};
+        const ConstraintEval cc = evaluate_constraint(inc);
+        for (int kj = 0; kj < cc.cols / 3; ++kj) {
+          const int bj = cc.blocks[kj];
+          grow = (cq * how.constraint_scale * how.uc_per_u) * cc.G.block(0, 3 * kj, m, 3) * chain_c_[bj].col_K;
+          PetscInt cj = dofs_.block_dof(bj);
+          PetscInt cols[3] = {cj, cj + 1, cj + 2};
+          PetscCall(MatSetValues(J, m, mult.data(), 3, cols, grow.data(), ADD_VALUES));
+        }
       }
+      for (int j = 0; j < m; ++j) PetscCall(MatSetValue(J, mult[j], mult[j], 0.0, ADD_VALUES));
     }
-    for (int j = 0; j < m; ++j) PetscCall(MatSetValue(J, mult[j], mult[j], 0.0, ADD_VALUES));
+  } catch (...) {
+    record_evaluation_error(describe_current_exception("loads and constraints"));
   }
 
   PetscCall(PetscLogEventEnd(events.constraints, 0, 0, 0, 0));

@@ -105,7 +105,9 @@ PetscErrorCode BaumgarteIntegrator::accelerations(PetscReal t, Vec U, Vec V) {
   const EvaluationPoint at{Ulam0_, V, nullptr, nullptr, t, t};
   PetscBool finite;
   PetscCall(sa_.residual(at, how, b_, &finite));  // [F - f_ext; Gamma*] at a = 0, lambda = 0
-  PetscCheck(finite, sa_.comm(), PETSC_ERR_FP, "non-finite forces at t = %g", (double)t);
+  // An explicit method has no Newton solve to cut: the run ends here, saying why.
+  PetscCheck(finite, sa_.comm(), PETSC_ERR_FP, "non-finite forces at t = %g%s%s", (double)t,
+             sa_.evaluation_error().empty() ? "" : ": ", sa_.evaluation_error().c_str());
   PetscCall(VecScale(b_, -1.0));
   PetscCall(sa_.jacobian(at, how, 0.0, 0.0, 1.0, S_));  // [M G^T; G 0]
   PetscCall(KSPSetOperators(ksp_, S_, S_));

@@ -405,7 +405,7 @@ PetscErrorCode GeneralizedAlphaIntegrator::run(Vec U, Vec V, StepObserver* obser
   }
   report->message = buf;
   if (!report->completed && !domain_error_.empty())
-    report->message += "; an element was evaluated outside its domain: " + domain_error_;
+    report->message += "; " + domain_error_;
   PetscInt krylov = 0, solves = 0;
   PetscCall(TSGetKSPIterations(ts_, &krylov));
   PetscCall(TSGetSNESIterations(ts_, &solves));

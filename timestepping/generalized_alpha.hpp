@@ -53,7 +53,7 @@ class GeneralizedAlphaIntegrator {
   int reuse_count_ = 0;                                 // Newton iterations it has served
   double last_fnorm_ = 0.0;                             // residual norm of the last Newton iterate
   long jacobians_ = 0;                                  // Jacobians assembled in the run
-  std::string domain_error_;                            // the last element evaluated outside its domain
+  std::string domain_error_;  // the last failed evaluation: an element outside its domain, or an exception caught
   CheckpointSchedule checkpoints_;
   bool resumed_step_ = false;  // the first monitor call shows the checkpoint's step: not recorded again
   long rejection_offset_ = 0, iteration_offset_ = 0;  // counted before the checkpoint

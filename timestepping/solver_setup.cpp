@@ -164,7 +164,10 @@ PetscErrorCode record_step(SystemAssembler& sa, const StepInfo& info, DynamicRep
   if (observer) {
     StepInfo seen = info;
     seen.report = r;
-    PetscCall(observer->on_step(seen));
+    // Called from PETSc's monitor: an exception must end here, as a PETSc error with its message.
+    PetscErrorCode status = 0;
+    PetscCallCXX(status = observer->on_step(seen));
+    PetscCall(status);
     if (observer->stop_requested()) r->interrupted = true;
   }
   PetscFunctionReturn(0);

@@ -62,7 +62,10 @@ PetscErrorCode StaticSolver::form_function(SNES snes, Vec U, Vec F, void* ctx) {
   PetscFunctionBeginUser;
   const double t = self->settings_.time;
   PetscCall(self->sa_.residual(EvaluationPoint{U, nullptr, nullptr, nullptr, t, t}, self->evaluation(), F, &finite));
-  if (!finite) PetscCall(SNESSetFunctionDomainError(snes));
+  if (!finite) {
+    PetscCall(SNESSetFunctionDomainError(snes));
+    if (!self->sa_.evaluation_error().empty()) self->evaluation_error_ = self->sa_.evaluation_error();
+  }
   PetscFunctionReturn(0);
 }
 
@@ -93,6 +96,14 @@ PetscErrorCode StaticSolver::form_jacobian(SNES snes, Vec U, Mat J, Mat, void* c
   PetscCall(SNESGetKSP(snes, &ksp));
   PetscCall(recover_from_failed_factorisation(ksp, &reset));  // a failed one must not poison the next
   PetscCall(self->sa_.jacobian(EvaluationPoint{U, nullptr, nullptr, nullptr, t, t}, self->evaluation(), 1.0, 0.0, mu, J));
+  // A failed evaluation (on any rank) leaves the matrix unusable: the solve fails and the load
+  // step is cut.
+  int failed = self->sa_.evaluation_error().empty() ? 0 : 1, anywhere = 0;
+  PetscCallMPI(MPI_Allreduce(&failed, &anywhere, 1, MPI_INT, MPI_MAX, PetscObjectComm(reinterpret_cast<PetscObject>(snes))));
+  if (anywhere) {
+    if (failed) self->evaluation_error_ = self->sa_.evaluation_error();
+    PetscCall(SNESSetJacobianDomainError(snes));
+  }
   PetscFunctionReturn(0);
 }
 
@@ -112,6 +123,7 @@ PetscErrorCode StaticSolver::solve(Vec U, StaticReport* report) {
   SNESConvergedReason reason = SNES_CONVERGED_ITERATING;
   while (reached < 1.0 - 1e-12) {
     load_factor_ = std::min(1.0, reached + increment);
+    evaluation_error_.clear();
     PetscCall(SNESSolve(snes_, nullptr, U));
     PetscInt its;
     PetscCall(SNESGetIterationNumber(snes_, &its));
@@ -171,6 +183,7 @@ PetscErrorCode StaticSolver::solve(Vec U, StaticReport* report) {
                   describe_violation(sa_.model(), r.max_violation, r.violation_constraint).c_str());
   }
   r.message = buf;
+  if (!r.converged && !evaluation_error_.empty()) r.message += "; " + evaluation_error_;
   if (!r.converged) PetscCall(VecCopy(last, U));
   PetscCall(VecDestroy(&last));
   *report = r;

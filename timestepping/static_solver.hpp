@@ -63,6 +63,7 @@ class StaticSolver {
   Mat J_ = nullptr;
   Vec F_ = nullptr;
   std::vector<PetscReal> history_;  ///< residual norms of the current Newton solve
+  std::string evaluation_error_;    ///< the last failed evaluation (SystemAssembler::evaluation_error)
   bool regularized_ = false;        ///< K + mu M in use (after plain Newton failed once)
   double initial_residual_ = 0.0;   ///< |F| at the first Jacobian of the current solve (mu's scale)
   double load_factor_ = 1.0;
