@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <thread>
 
 namespace latticedyn {
 
@@ -128,6 +129,7 @@ FaultInjection::FaultInjection(MPI_Comm comm) {
   PetscMPIInt me = 0;
   MPI_Comm_rank(comm, &me);
   PetscCallAbort(comm, PetscOptionsGetInt(nullptr, nullptr, "-fault_injection_rank", &rank, nullptr));
+  PetscCallAbort(comm, PetscOptionsGetReal(nullptr, nullptr, "-fault_slow_steps", &slow_, nullptr));
   fail_ = rank == me;
 }
 
@@ -135,6 +137,7 @@ PetscErrorCode FaultInjection::on_step(const StepInfo& info) {
   PetscFunctionBeginUser;
   PetscCheck(!fail_ || info.step < 1, PETSC_COMM_SELF, PETSC_ERR_USER,
              "fault injected on this rank at step %d, t = %g s (-fault_injection_rank)", info.step, info.time);
+  if (slow_ > 0) std::this_thread::sleep_for(std::chrono::duration<double>(slow_));
   PetscFunctionReturn(0);
 }
 

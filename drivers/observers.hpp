@@ -65,8 +65,10 @@ class ProgressObserver final : public StepObserver {
   double after_ = 1.0, interval_ = 5.0;
 };
 
-/// A PETSc error raised on one rank at the first step (`-fault_injection_rank R`): shows that an
-/// error on one rank ends the run on all of them instead of leaving the others waiting.
+/// Testing aids: a PETSc error raised on one rank at the first step (`-fault_injection_rank R`)
+/// shows that an error on one rank ends the run on all of them instead of leaving the others
+/// waiting; steps made slow (`-fault_slow_steps SECONDS` of sleep after each) leave time for a
+/// second signal while the first waits for the step to end.
 class FaultInjection final : public StepObserver {
  public:
   explicit FaultInjection(MPI_Comm comm);
@@ -74,6 +76,7 @@ class FaultInjection final : public StepObserver {
 
  private:
   bool fail_ = false;
+  double slow_ = 0.0;
 };
 
 /// Forwards every step to several observers.

@@ -10,6 +10,7 @@
 #include <sys/wait.h>
 
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -349,6 +350,24 @@ TEST_F(Cli, SignalsEndTheRunWithResultsAndSummary) {
                           "timeout --preserve-status -s TERM 4 " + latticedyn::testing::mpiexec(MPIEXEC, 2));
   EXPECT_NE(two.code, 124) << "the run hung: " << two.err;
   EXPECT_NE(two.code, 0) << two.out << two.err;
+}
+
+// A second SIGINT while the first waits for the step to end stops the run at once: steps of 3 s
+// (-fault_slow_steps), the first signal at 1 s would end the run after the next step (about 7 s),
+// the second at 2.5 s ends it there, killed by the signal (status 130 from the shell).
+TEST_F(Cli, ASecondSignalStopsTheRunAtOnce) {
+  write("long.yaml", replaced(kPendulum, "t_end: 0.2", "t_end: 100000"));
+  write("twice.sh", std::string(LATTICEDYN_EXE) +
+                        " run long.yaml --output out -fault_slow_steps 3 > ld_out.txt 2> ld_err.txt &\n"
+                        "pid=$!\nsleep 1\nkill -INT $pid\nsleep 1.5\nkill -INT $pid\nwait $pid\n");
+  const auto start = std::chrono::steady_clock::now();
+  const Outcome o = latticedyn::testing::run_in(dir_, "sh", "twice.sh", "", 60);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const std::string out = slurp(dir_ / "ld_out.txt"), err = slurp(dir_ / "ld_err.txt");
+  EXPECT_EQ(o.code, 130) << out << err;
+  EXPECT_LT(seconds, 5.0) << out << err;
+  EXPECT_NE(err.find("again to stop at once"), std::string::npos) << err;
+  EXPECT_EQ(out.find("dynamics INTERRUPTED"), std::string::npos) << "no summary after the second signal: " << out;
 }
 
 TEST_F(Cli, InputErrorOnTwoRanksEndsBothWithoutHanging) {
