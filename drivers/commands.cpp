@@ -145,14 +145,15 @@ std::string load_checkpoint(const Simulation& sim, const std::string& restart, C
 // ranks so that they stop together.
 std::unique_ptr<ResultWriter> open_writer(const Simulation& sim, const CommandOptions& opt, MPI_Comm comm,
                                           std::string* error,
-                                          std::optional<ResultContinuation> continuation = std::nullopt) {
+                                          std::optional<ResultContinuation> continuation = std::nullopt,
+                                          const std::string& base_name = "") {
   std::unique_ptr<ResultWriter> writer;
   int ok = 1;
   if (is_root(comm)) {
     try {
       ResultWriterOptions o;
       o.directory = opt.output_directory.empty() ? sim.output.directory : opt.output_directory;
-      o.base_name = sim.output.name;
+      o.base_name = base_name.empty() ? sim.output.name : base_name;
       o.probe_joints = sim.output.probe_joints;
       o.continuation = continuation;
       writer = std::make_unique<ResultWriter>(sim.model, o);
@@ -282,7 +283,9 @@ int command_solve(Simulation& sim, const CommandOptions& opt, MPI_Comm comm, boo
                                                     : Parametrization::velocity_variables};
     PetscCallAbort(comm, out.on_step(first));
   }
-  ProgressObserver progress(comm, t0, t1);
+  PetscReal t_stop = t1;  // -ts_max_time ends a run early: the progress line counts to it
+  if (dynamics) PetscCallAbort(comm, PetscOptionsGetReal(nullptr, nullptr, "-ts_max_time", &t_stop, nullptr));
+  ProgressObserver progress(comm, t0, dynamics ? std::min<double>(t1, t_stop) : t1);
   FaultInjection fault(comm);
   InterruptObserver interrupt(comm);
   ObserverList observers;
@@ -301,10 +304,12 @@ int command_solve(Simulation& sim, const CommandOptions& opt, MPI_Comm comm, boo
 
   std::string text;
   if (outcome.static_run) {
+    char wall[64];
+    std::snprintf(wall, sizeof wall, "; wall %.3g s", outcome.statics.wall_seconds);
     if (outcome.statics.converged)
-      text += outcome.statics.message + "\n";
+      text += outcome.statics.message + wall + "\n";
     else
-      error_root(comm, outcome.statics.message);
+      error_root(comm, outcome.statics.message + wall);
   }
   if (outcome.dynamics_run) {
     const DynamicReport& r = outcome.dynamics;
@@ -354,6 +359,7 @@ void one_thread_per_rank(MPI_Comm comm) {
 }  // namespace
 
 int command_check(const Simulation& sim, MPI_Comm comm) {
+  const auto started = Clock::now();
   print_root(comm, describe_model(sim.model));
   // The initial state as the solvers will see it, on this process alone.
   const auto numbered = Clock::now();
@@ -382,7 +388,10 @@ int command_check(const Simulation& sim, MPI_Comm comm) {
                   sim.dynamics.t_start, sim.dynamics.t_end, sim.dynamics.time_step);
     text += buf;
   }
-  text += "output: " + sim.output.directory + "/" + sim.output.name + ".h5\nthe model is valid\n";
+  char wall[96];
+  std::snprintf(wall, sizeof wall, "the model is valid (checked in %.3g s; reading it %.3g s)\n", seconds_since(started),
+                sim.parse_seconds + sim.build_seconds);
+  text += "output: " + sim.output.directory + "/" + sim.output.name + ".h5\n" + wall;
   print_root(comm, text);
   return kSuccess;
 }
@@ -393,9 +402,11 @@ int command_static(Simulation& sim, const CommandOptions& opt, MPI_Comm comm) {
 
 int command_modes(Simulation& sim, const CommandOptions& opt, MPI_Comm comm) {
   if (!opt.output_directory.empty()) sim.output.directory = opt.output_directory;
+  const auto started = Clock::now();
   print_root(comm, describe_model(sim.model));
   std::string error;
-  auto writer = open_writer(sim, opt, comm, &error);
+  // Its own files beside a run's results, not over them.
+  auto writer = open_writer(sim, opt, comm, &error, std::nullopt, sim.output.name + "_modes");
   if (!error.empty()) {
     error_root(comm, error);
     return kInputError;
@@ -454,8 +465,10 @@ int command_modes(Simulation& sim, const CommandOptions& opt, MPI_Comm comm) {
     table += "frequencies: " + csv.string() + "\n";
   }
   if (static_cast<int>(modes.size()) < opt.modes) table += "warning: " + message + "\n";
+  char wall[64];
+  std::snprintf(wall, sizeof wall, "modes: wall %.3g s\n", seconds_since(started));
   print_root(comm, table + "mode shapes: output steps 1.." + std::to_string(modes.size()) +
-                       " (step 0: the equilibrium), 5 % of the model's size\n" + where_results(writer.get()));
+                       " (step 0: the equilibrium), 5 % of the model's size\n" + wall + where_results(writer.get()));
   destroy_modes(modes);
   VecDestroy(&U);
   VecDestroy(&V);

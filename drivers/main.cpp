@@ -1,6 +1,7 @@
 // latticedyn: command line entry point. Parses the command and model file, hands every other
 // argument to PETSc (so any -ts_/-snes_/-ksp_/-pc_ option and -log_view work) and maps errors
 // to exit codes: 0 success, 1 solver failure, 2 bad input or usage, 3 internal error.
+#include "drivers/command_line.hpp"
 #include "drivers/commands.hpp"
 #include "io/input_node.hpp"
 
@@ -11,26 +12,6 @@
 #include <cstring>
 #include <string>
 #include <vector>
-
-namespace {
-
-const char* kUsage =
-    "usage: latticedyn <command> MODEL.yaml [--output DIR] [--restart FILE[:STEP]] [PETSc options]\n"
-    "commands:\n"
-    "  check    validate the model and describe it\n"
-    "  static   find the static equilibrium and write it\n"
-    "  run      static equilibrium if the model asks for it, then the dynamics (--restart RESULTS.h5[:STEP]\n"
-    "           continues a run from its last checkpoint, or the one at step STEP, exactly)\n"
-    "  modes    static equilibrium, then the lowest natural frequencies and mode shapes (--modes N, default 6)\n"
-    "  batch    the cases of a batch file (a grid or list of model changes) over MPI rank groups\n"
-    "           (--groups G, default one per rank; resumes in its output folder; --retry-failed)\n"
-    "  control  quasi-static optimal control: mapping batch, surfaces, optimal trajectory (TAO), control\n"
-    "           table, verification run and report (--groups G for the batch)\n"
-    "  help     this text\n"
-    "Every other option goes to PETSc, e.g. -ts_adapt_type basic, -snes_monitor, -pc_factor_mat_solver_type\n"
-    "umfpack, -log_view. Results go to the model's output.directory (default results/<model name>).\n";
-
-}  // namespace
 
 // Every way out of a run ends with a documented exit code. PETSc's PetscCallAbort and its
 // error handler on several ranks end a run with MPI_Abort(comm, PETSc error code) after printing
@@ -46,56 +27,21 @@ extern "C" int MPI_Abort(MPI_Comm comm, int errorcode) {
 
 int main(int argc, char** argv) {
   using namespace latticedyn;
-  if (argc < 2 || !std::strcmp(argv[1], "help") || !std::strcmp(argv[1], "--help") || !std::strcmp(argv[1], "-h")) {
-    std::fputs(kUsage, argc < 2 ? stderr : stdout);
-    return argc < 2 ? kInputError : kSuccess;
+  // Line by line, so that stdout and stderr keep their order when both go to one log.
+  std::setvbuf(stdout, nullptr, _IOLBF, 0);
+  const CommandLine cl = parse_command_line(argc, argv);
+  if (cl.action == CommandLine::Action::print) {
+    std::fputs(cl.text.c_str(), stdout);
+    return kSuccess;
   }
-  const std::string command = argv[1];
-  if (command != "check" && command != "static" && command != "run" && command != "modes" && command != "batch" &&
-      command != "control") {
-    std::fprintf(stderr, "latticedyn: error: unknown command '%s'\n%s", command.c_str(), kUsage);
+  if (cl.action == CommandLine::Action::fail) {
+    std::fputs(cl.text.c_str(), stderr);
     return kInputError;
   }
-  CommandOptions options;
+  const std::string& command = cl.command;
+  const CommandOptions& options = cl.options;
   std::vector<char*> petsc_args{argv[0]};
-  for (int i = 2; i < argc; ++i) {
-    if (!std::strcmp(argv[i], "--output")) {
-      if (i + 1 >= argc) {
-        std::fprintf(stderr, "latticedyn: error: --output needs a directory\n");
-        return kInputError;
-      }
-      options.output_directory = argv[++i];
-    } else if (!std::strcmp(argv[i], "--modes")) {
-      if (i + 1 >= argc || std::atoi(argv[i + 1]) < 1) {
-        std::fprintf(stderr, "latticedyn: error: --modes needs a positive number\n");
-        return kInputError;
-      }
-      options.modes = std::atoi(argv[++i]);
-    } else if (!std::strcmp(argv[i], "--groups")) {
-      if (i + 1 >= argc || std::atoi(argv[i + 1]) < 1) {
-        std::fprintf(stderr, "latticedyn: error: --groups needs a positive number\n");
-        return kInputError;
-      }
-      options.groups = std::atoi(argv[++i]);
-    } else if (!std::strcmp(argv[i], "--restart")) {
-      if (command != "run" || i + 1 >= argc) {
-        std::fprintf(stderr, "latticedyn: error: --restart belongs to 'run' and needs a results file (FILE or FILE:STEP)\n");
-        return kInputError;
-      }
-      options.restart = argv[++i];
-    } else if (!std::strcmp(argv[i], "--retry-failed")) {
-      options.retry_failed = true;
-    } else if (i == 2 && argv[i][0] != '-') {
-      options.model_path = argv[i];  // right after the command, so option values are never taken for it
-    } else {
-      petsc_args.push_back(argv[i]);
-    }
-  }
-  if (options.model_path.empty()) {
-    std::fprintf(stderr, "latticedyn: error: '%s' needs a model file\n%s", command.c_str(), kUsage);
-    return kInputError;
-  }
-
+  for (const std::string& a : cl.petsc_args) petsc_args.push_back(const_cast<char*>(a.c_str()));
   int pargc = static_cast<int>(petsc_args.size());
   petsc_args.push_back(nullptr);
   char** pargv = petsc_args.data();
@@ -105,8 +51,20 @@ int main(int argc, char** argv) {
   MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
   // An error on one rank must end the run on all ranks with its message, never hang the others.
   if (size > 1) PetscPushErrorHandler(PetscMPIAbortErrorHandler, nullptr);
+  PetscBool help = PETSC_FALSE;
+  PetscOptionsHasName(nullptr, nullptr, "-help", &help);
+  if (help) {
+    // PETSc has printed its own options; latticedyn's follow, with their help texts.
+    if (rank == 0) std::fputs(usage_text().c_str(), stdout);
+    PetscCallAbort(PETSC_COMM_WORLD, register_latticedyn_options(PETSC_COMM_WORLD));
+    if (cl.action == CommandLine::Action::petsc_help) {
+      SlepcFinalize();
+      return kSuccess;
+    }
+  }
 
   int code = kSuccess;
+  std::vector<std::string> given = option_names(cl.petsc_args);  // and the model's, below
   try {
     if (command == "batch" || command == "control") {
       code = command == "batch" ? command_batch(options, PETSC_COMM_WORLD) : command_control(options, PETSC_COMM_WORLD);
@@ -117,10 +75,12 @@ int main(int argc, char** argv) {
     Simulation sim = read_simulation(options.model_path);
     // Options from the model first, then the command line again so that it wins; `check` applies
     // none (they are only validated: io/petsc_option_policy.hpp).
+    for (const std::string& name : option_names(sim.petsc_options)) given.push_back(name);
     if (!sim.petsc_options.empty() && command != "check") {
       PetscCallAbort(PETSC_COMM_WORLD, PetscOptionsInsertString(nullptr, sim.petsc_options.c_str()));
       PetscCallAbort(PETSC_COMM_WORLD, PetscOptionsInsert(nullptr, &pargc, &pargv, nullptr));
     }
+    if (!options.output_directory.empty()) sim.output.directory = options.output_directory;
     if (command == "check") code = command_check(sim, PETSC_COMM_WORLD);
     if (command == "static") code = command_static(sim, options, PETSC_COMM_WORLD);
     if (command == "run") code = command_run(sim, options, PETSC_COMM_WORLD);
@@ -133,6 +93,8 @@ int main(int argc, char** argv) {
     if (size > 1) MPI_Abort(PETSC_COMM_WORLD, kInternalError);
     code = kInternalError;
   }
+  // `check` applies no solver options: nothing to report.
+  if (code != kInternalError && command != "check" && rank == 0) std::fputs(unused_options_report(given).c_str(), stderr);
   SlepcFinalize();
   return code;
 }

@@ -51,6 +51,8 @@ class OutputObserver final : public StepObserver {
 /// rewritten in place, 5 in logs).
 class ProgressObserver final : public StepObserver {
  public:
+  static constexpr double kDefaultAfter = 1.0;     ///< -progress_after
+  static constexpr double kDefaultInterval = 5.0;  ///< -progress_interval in a log (0.5 on a terminal)
   ProgressObserver(MPI_Comm comm, double t_start, double t_end);
   PetscErrorCode on_step(const StepInfo& info) override;
   /// Ends the progress line (if one was shown).
@@ -62,7 +64,7 @@ class ProgressObserver final : public StepObserver {
   std::chrono::steady_clock::time_point start_, last_print_;
   bool shown_ = false;
   bool tty_ = false;
-  double after_ = 1.0, interval_ = 5.0;
+  double after_ = kDefaultAfter, interval_ = kDefaultInterval;
 };
 
 /// Testing aids: a PETSc error raised on one rank at the first step (`-fault_injection_rank R`)

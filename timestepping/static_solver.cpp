@@ -6,6 +6,7 @@
 #include "timestepping/native_lu.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <limits>
 
@@ -109,6 +110,7 @@ PetscErrorCode StaticSolver::form_jacobian(SNES snes, Vec U, Mat J, Mat, void* c
 
 PetscErrorCode StaticSolver::solve(Vec U, StaticReport* report) {
   PetscFunctionBeginUser;
+  const auto started = std::chrono::steady_clock::now();
   StaticReport r;
   Vec last;
   PetscCall(VecDuplicate(U, &last));
@@ -186,6 +188,7 @@ PetscErrorCode StaticSolver::solve(Vec U, StaticReport* report) {
   if (!r.converged && !evaluation_error_.empty()) r.message += "; " + evaluation_error_;
   if (!r.converged) PetscCall(VecCopy(last, U));
   PetscCall(VecDestroy(&last));
+  r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   *report = r;
   PetscFunctionReturn(0);
 }

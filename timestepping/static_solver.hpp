@@ -39,6 +39,7 @@ struct StaticReport {
   double max_violation = 0.0;
   int violation_constraint = -1;
   std::string message;          ///< what failed and where, or a summary
+  double wall_seconds = 0.0;
 };
 
 class StaticSolver {

@@ -110,8 +110,91 @@ TEST_F(Cli, ModesGivesThePendulumFrequencyAndWritesTheShapes) {
   EXPECT_EQ(mode, 1);
   EXPECT_NEAR(w2, omega2, 1e-6 * omega2);
   EXPECT_NEAR(hz, std::sqrt(omega2) / (2.0 * M_PI), 1e-6);
-  EXPECT_TRUE(fs::exists(dir_ / "out/pendulum.xdmf"));
+  // Its own files, beside a run's results instead of over them.
+  EXPECT_TRUE(fs::exists(dir_ / "out/pendulum_modes.xdmf"));
+  EXPECT_FALSE(fs::exists(dir_ / "out/pendulum.h5"));
+  EXPECT_NE(o.out.find("modes: wall "), std::string::npos) << o.out;
   EXPECT_EQ(run("modes pendulum.yaml --modes 0").code, 2);
+}
+
+// The command line as PETSc and other simulation codes' users expect it: version and help (nothing
+// is run), a suggestion for a mistyped command or option (an error, nothing written), latticedyn's
+// own options in PETSc's -help, and options no solver read reported at the end.
+TEST_F(Cli, CommandLineHelpVersionAndMistakes) {
+  write("pendulum.yaml", kPendulum);
+  const Outcome version = run("--version");
+  EXPECT_EQ(version.code, 0);
+  EXPECT_EQ(version.out.rfind("latticedyn 0.", 0), 0u) << version.out;
+  EXPECT_NE(version.out.find("PETSc 3."), std::string::npos) << version.out;
+  const Outcome help = run("--help");
+  EXPECT_EQ(help.code, 0);
+  for (const char* c : {"check", "static", "run", "modes", "batch", "control"})
+    EXPECT_NE(help.out.find(std::string("  ") + c + " "), std::string::npos) << c << "\n" << help.out;
+  const Outcome run_help = run("run --help");
+  EXPECT_EQ(run_help.code, 0);
+  EXPECT_NE(run_help.out.find("--restart FILE[:STEP]"), std::string::npos) << run_help.out;
+  EXPECT_NE(run("help modes").out.find("--modes N"), std::string::npos);
+  // --help after a model: the help, nothing run or written.
+  const Outcome static_help = run("static pendulum.yaml --output out --help");
+  EXPECT_EQ(static_help.code, 0);
+  EXPECT_FALSE(fs::exists(dir_ / "out")) << static_help.out;
+
+  struct Mistake {
+    std::string args, message;
+  };
+  for (const Mistake& m : {Mistake{"rn pendulum.yaml", "unknown command 'rn'; did you mean 'run'?"},
+                           Mistake{"run pendulum.yaml --outptu out", "unknown option '--outptu' for 'run'; did you mean '--output'?"},
+                           Mistake{"run pendulum.yaml --modes 3", "--modes belongs to 'modes', not to 'run'"},
+                           Mistake{"modes pendulum.yaml --modes 3x", "--modes needs a positive number, not '3x'"},
+                           Mistake{"run pendulum.yaml --output", "--output needs a value"}}) {
+    const Outcome o = run(m.args);
+    EXPECT_EQ(o.code, 2) << m.args;
+    EXPECT_NE(o.err.find(m.message), std::string::npos) << m.args << ": " << o.err;
+    EXPECT_FALSE(fs::exists(dir_ / "out")) << m.args;
+    EXPECT_FALSE(fs::exists(dir_ / "results")) << m.args;
+  }
+
+  // PETSc's -help with and without a model lists latticedyn's own options with their help.
+  for (const char* args : {"-help", "run -help", "run pendulum.yaml --output out -help"}) {
+    const Outcome o = run(args);
+    EXPECT_EQ(o.code, 0) << args << o.err;
+    EXPECT_NE(o.out.find("-assembly_threads"), std::string::npos) << args << o.out;
+    EXPECT_NE(o.out.find("seconds of wall time before the progress line appears"), std::string::npos) << args;
+  }
+
+  // Options no solver read are reported; those read are not; a static run ends with its wall time.
+  write("opts.yaml", "base: pendulum.yaml\nsolver: {static: {}, dynamics: {t_end: 0.2, time_step: 0.01}, "
+                     "petsc_options: '-snes_max_it 50 -ksp_typo gmres'}\n");
+  const Outcome o = run("static opts.yaml --output out -snes_typo 1 -snes_rtol 1e-9 -ts_max_time 1");
+  EXPECT_EQ(o.code, 0) << o.err;
+  EXPECT_NE(o.err.find("option -snes_typo 1 was not used"), std::string::npos) << o.err;
+  EXPECT_NE(o.err.find("option -ksp_typo gmres was not used"), std::string::npos) << o.err;
+  EXPECT_NE(o.err.find("option -ts_max_time 1 was not used"), std::string::npos) << "no dynamics in static: " << o.err;
+  EXPECT_EQ(o.err.find("-snes_max_it"), std::string::npos) << o.err;
+  EXPECT_EQ(o.err.find("-snes_rtol"), std::string::npos) << o.err;
+  EXPECT_NE(o.out.find("static equilibrium found"), std::string::npos) << o.out;
+  EXPECT_NE(o.out.find("; wall "), std::string::npos) << o.out;
+}
+
+// stdout and stderr in one log keep their order (stdout is line-buffered); the progress line
+// counts to -ts_max_time when it ends the run early.
+TEST_F(Cli, OneLogKeepsTheOrderOfItsLines) {
+  write("pendulum.yaml", kPendulum);
+  const Outcome o = latticedyn::testing::run_in(
+      dir_, "sh", std::string("-c '") + LATTICEDYN_EXE + " run pendulum.yaml --output out -snes_max_it 1 > log.txt 2>&1'");
+  EXPECT_EQ(o.code, 1);
+  const std::string log = slurp(dir_ / "log.txt");
+  const auto model = log.find("model 'pendulum'"), error = log.find("latticedyn: error: dynamics stopped"),
+             summary = log.find("dynamics FAILED");
+  ASSERT_NE(model, std::string::npos) << log;
+  ASSERT_NE(error, std::string::npos) << log;
+  ASSERT_NE(summary, std::string::npos) << log;
+  EXPECT_LT(model, error) << log;
+  EXPECT_LT(error, summary) << log;
+  write("long.yaml", replaced(kPendulum, "t_end: 0.2", "t_end: 1000"));
+  const Outcome p = run("run long.yaml --output out2 -ts_max_time 0.1 -progress_after 0 -progress_interval 0");
+  EXPECT_EQ(p.code, 0) << p.err;
+  EXPECT_NE(p.err.find("t = 0.1 / 0.1 s (100.0%)"), std::string::npos) << p.err;
 }
 
 TEST_F(Cli, CheckDescribesAValidModel) {
