@@ -120,6 +120,25 @@ PetscErrorCode ProgressObserver::on_step(const StepInfo& info) {
   return 0;
 }
 
+void ProgressObserver::on_static_iteration(const StaticIterationInfo& info) {
+  if (!root_) return;
+  const auto now = std::chrono::steady_clock::now();
+  const double elapsed = std::chrono::duration<double>(now - start_).count();
+  const double since = std::chrono::duration<double>(now - last_print_).count();
+  if (elapsed < after_ || (shown_ && since < interval_)) return;
+  last_print_ = now;
+  std::fprintf(stderr, "%sstatics: load %.4g of 1 (%d increment%s in equilibrium, up to %.4g), Newton %d, residual %.2e, "
+               "elapsed %.1f s%s",
+               tty_ ? "\r" : "", info.load_factor, info.increments, info.increments == 1 ? "" : "s", info.reached,
+               info.newton_iterations, info.residual, elapsed, tty_ ? "   " : "\n");
+  std::fflush(stderr);
+  shown_ = true;
+}
+
+void ObserverList::on_static_iteration(const StaticIterationInfo& info) {
+  for (StepObserver* o : observers_) o->on_static_iteration(info);
+}
+
 void ProgressObserver::done() {
   if (root_ && shown_ && tty_) std::fprintf(stderr, "\n");
 }

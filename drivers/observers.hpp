@@ -55,6 +55,8 @@ class ProgressObserver final : public StepObserver {
   static constexpr double kDefaultInterval = 5.0;  ///< -progress_interval in a log (0.5 on a terminal)
   ProgressObserver(MPI_Comm comm, double t_start, double t_end);
   PetscErrorCode on_step(const StepInfo& info) override;
+  /// "statics: load 0.5 (3 increments), Newton 12, residual 1.2e-03, elapsed 2.1 s".
+  void on_static_iteration(const StaticIterationInfo& info) override;
   /// Ends the progress line (if one was shown).
   void done();
 
@@ -88,6 +90,7 @@ class ObserverList final : public StepObserver {
   PetscErrorCode on_step(const StepInfo& info) override;
   /// Any of them (each asked: the question is collective).
   bool stop_requested() override;
+  void on_static_iteration(const StaticIterationInfo& info) override;
 
  private:
   std::vector<StepObserver*> observers_;

@@ -39,7 +39,7 @@ PetscErrorCode simulate(Simulation& sim, SystemAssembler& sa, Vec U, Vec V, bool
     if (dynamics) st.time = sim.dynamics.t_start;  // the dynamics start from this equilibrium
     StaticSolver solver(sa, st);
     outcome->static_run = true;
-    PetscCall(solver.solve(U, &outcome->statics));
+    PetscCall(solver.solve(U, &outcome->statics, observer));
     PetscCall(VecZeroEntries(V));
     if (!outcome->statics.converged) PetscFunctionReturn(0);
   }

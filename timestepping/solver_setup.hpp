@@ -50,10 +50,21 @@ struct StepInfo {
   const DynamicReport* report = nullptr;  ///< the run so far (set by record_step)
 };
 
+/// A Newton iteration of a static solve (for a progress line).
+struct StaticIterationInfo {
+  double load_factor = 0.0;  ///< the load level being solved for
+  double reached = 0.0;      ///< the last one in equilibrium
+  int increments = 0;        ///< accepted load increments so far
+  int newton_iterations = 0; ///< in all, this one included
+  double residual = 0.0;
+};
+
 class StepObserver {
  public:
   virtual ~StepObserver() = default;
   virtual PetscErrorCode on_step(const StepInfo& info) = 0;
+  /// After each Newton iteration of a static solve; nothing by default.
+  virtual void on_static_iteration(const StaticIterationInfo&) {}
   /// Whether the run should stop after this accepted step (an interrupting signal). Collective:
   /// asked on every rank after every step, it must answer the same everywhere.
   virtual bool stop_requested() { return false; }

@@ -22,6 +22,7 @@ StaticSolver::StaticSolver(SystemAssembler& sa, StaticSettings settings) : sa_(s
   PetscCallAbort(sa_.comm(), SNESSetFunction(snes_, F_, form_function, this));
   PetscCallAbort(sa_.comm(), SNESSetJacobian(snes_, J_, J_, form_jacobian, this));
   PetscCallAbort(sa_.comm(), SNESSetType(snes_, SNESNEWTONLS));
+  PetscCallAbort(sa_.comm(), SNESMonitorSet(snes_, monitor, this, nullptr));
   PetscCallAbort(sa_.comm(), SNESSetTolerances(snes_, settings_.atol, settings_.rtol, 0.0, settings_.max_iterations, 100000));
   // Round-off reference: the force of the typical stiffness over a millimetre. A model that starts
   // in equilibrium (no loads) has nothing else to measure its residual's floor against.
@@ -108,8 +109,22 @@ PetscErrorCode StaticSolver::form_jacobian(SNES snes, Vec U, Mat J, Mat, void* c
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode StaticSolver::solve(Vec U, StaticReport* report) {
+PetscErrorCode StaticSolver::monitor(SNES, PetscInt it, PetscReal fnorm, void* ctx) {
+  auto* self = static_cast<StaticSolver*>(ctx);
   PetscFunctionBeginUser;
+  if (it == 0 || !self->observer_) PetscFunctionReturn(0);
+  StaticIterationInfo info = self->progress_;
+  info.load_factor = self->load_factor_;
+  info.newton_iterations += static_cast<int>(it);
+  info.residual = fnorm;
+  self->observer_->on_static_iteration(info);
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode StaticSolver::solve(Vec U, StaticReport* report, StepObserver* observer) {
+  PetscFunctionBeginUser;
+  observer_ = observer;
+  progress_ = StaticIterationInfo{};
   const auto started = std::chrono::steady_clock::now();
   StaticReport r;
   Vec last;
@@ -126,6 +141,9 @@ PetscErrorCode StaticSolver::solve(Vec U, StaticReport* report) {
   while (reached < 1.0 - 1e-12) {
     load_factor_ = std::min(1.0, reached + increment);
     evaluation_error_.clear();
+    progress_.reached = reached;
+    progress_.increments = r.increments;
+    progress_.newton_iterations = r.newton_iterations;
     PetscCall(SNESSolve(snes_, nullptr, U));
     PetscInt its;
     PetscCall(SNESGetIterationNumber(snes_, &its));

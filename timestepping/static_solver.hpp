@@ -1,5 +1,5 @@
 // Static equilibrium (thesis 5.1.1, "nonlinear equation solution"): F(q) + G^T lambda = f_ext,
-// g(q) = 0 with rates zero, solved by PETSc SNES (Newton with line search) under load ramping.
+// g(q) = 0 with rates zero, solved by PETSc SNES (full Newton steps) under load ramping with cuts.
 #pragma once
 
 #include "timestepping/solver_setup.hpp"
@@ -7,7 +7,6 @@
 #include <petscsnes.h>
 
 #include <string>
-
 #include <vector>
 
 namespace latticedyn {
@@ -51,11 +50,13 @@ class StaticSolver {
 
   /// U: initial guess in, equilibrium (coordinates and multipliers) out. On failure U holds the
   /// last converged load level and the report says where and why it failed. Collective.
-  PetscErrorCode solve(Vec U, StaticReport* report);
+  /// `observer` (may be null) hears of every Newton iteration (StepObserver::on_static_iteration).
+  PetscErrorCode solve(Vec U, StaticReport* report, StepObserver* observer = nullptr);
 
  private:
   static PetscErrorCode form_function(SNES, Vec U, Vec F, void* ctx);
   static PetscErrorCode form_jacobian(SNES, Vec U, Mat J, Mat P, void* ctx);
+  static PetscErrorCode monitor(SNES, PetscInt it, PetscReal fnorm, void* ctx);
   EvaluationSettings evaluation() const;
 
   SystemAssembler& sa_;
@@ -68,6 +69,8 @@ class StaticSolver {
   bool regularized_ = false;        ///< K + mu M in use (after plain Newton failed once)
   double initial_residual_ = 0.0;   ///< |F| at the first Jacobian of the current solve (mu's scale)
   double load_factor_ = 1.0;
+  StaticIterationInfo progress_;      ///< of the solve in progress
+  StepObserver* observer_ = nullptr;  ///< of the solve in progress
 };
 
 }  // namespace latticedyn

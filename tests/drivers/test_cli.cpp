@@ -484,6 +484,12 @@ TEST_F(Cli, ProgressLineShowsTimeStepsAndEta) {
   // Runs shorter than the default second show none.
   const Outcome quiet = run("run pendulum.yaml --output out2");
   EXPECT_EQ(quiet.err.find("ETA"), std::string::npos) << quiet.err;
+  // Statics say so: the load level, increments, Newton iterations and residual.
+  const Outcome statics = run("static pendulum.yaml --output out3 -progress_after 0 -progress_interval 0");
+  ASSERT_EQ(statics.code, 0) << statics.err;
+  EXPECT_NE(statics.err.find("statics: load 1 of 1 (0 increments in equilibrium, up to 0), Newton 1, residual"),
+            std::string::npos)
+      << statics.err;
 }
 
 TEST_F(Cli, StartsFromARecordedState) {
