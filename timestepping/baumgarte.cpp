@@ -3,6 +3,8 @@
 // x_dot = [q_dot(q, dq), a]. Multipliers are algebraic outputs kept beside the state.
 #include "timestepping/baumgarte.hpp"
 
+#include "timestepping/prefixed_options.hpp"
+
 #include <chrono>
 #include <cstdio>
 
@@ -10,6 +12,7 @@ namespace latticedyn {
 
 BaumgarteIntegrator::BaumgarteIntegrator(SystemAssembler& sa, DynamicSettings settings)
     : sa_(sa), settings_(settings) {
+  const PrefixedOptions options(kDynamicPrefix);  // -dyn_ts_..., -dyn_ksp_... over -ts_..., -ksp_...
   const MPI_Comm comm = sa_.comm();
   for (Vec* v : {&U_, &V_, &A_, &b_, &y_, &Ulam0_}) PetscCallAbort(comm, sa_.create_vector(v));
   PetscCallAbort(comm, VecCreateMPI(comm, 2 * sa_.dofs().owned_size(), 2 * sa_.dofs().global_size(), &X_));
@@ -196,6 +199,7 @@ PetscErrorCode BaumgarteIntegrator::monitor(TS ts, PetscInt step, PetscReal t, V
 PetscErrorCode BaumgarteIntegrator::run(Vec U, Vec V, StepObserver* observer, DynamicReport* report,
                                         const ResumePoint* resume) {
   PetscFunctionBeginUser;
+  const PrefixedOptions options(kDynamicPrefix);  // also for what is read while solving
   start_report(resume, report);
   observer_ = observer;
   report_ = report;

@@ -7,6 +7,7 @@
 #include "timestepping/generalized_alpha.hpp"
 
 #include "timestepping/native_lu.hpp"
+#include "timestepping/prefixed_options.hpp"
 #include "timestepping/subdomain_lu.hpp"
 
 #include <chrono>
@@ -17,6 +18,7 @@ namespace latticedyn {
 
 GeneralizedAlphaIntegrator::GeneralizedAlphaIntegrator(SystemAssembler& sa, DynamicSettings settings)
     : sa_(sa), settings_(settings) {
+  const PrefixedOptions options(kDynamicPrefix);  // -dyn_ts_..., -dyn_snes_... over -ts_..., -snes_...
   const MPI_Comm comm = sa_.comm();
   for (Vec* v : {&F_, &Uc_, &V_prev_, &A_est_, &A_scaled_}) PetscCallAbort(comm, sa_.create_vector(v));
   PetscCallAbort(comm, TSCreate(comm, &ts_));
@@ -347,6 +349,7 @@ PetscErrorCode GeneralizedAlphaIntegrator::monitor(TS ts, PetscInt step, PetscRe
 PetscErrorCode GeneralizedAlphaIntegrator::run(Vec U, Vec V, StepObserver* observer, DynamicReport* report,
                                                const ResumePoint* resume, Vec acceleration) {
   PetscFunctionBeginUser;
+  const PrefixedOptions options(kDynamicPrefix);  // also for what is read while solving (-ts_view)
   start_report(resume, report);
   observer_ = observer;
   report_ = report;

@@ -4,6 +4,7 @@
 #include "timestepping/static_solver.hpp"
 
 #include "timestepping/native_lu.hpp"
+#include "timestepping/prefixed_options.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -13,6 +14,7 @@
 namespace latticedyn {
 
 StaticSolver::StaticSolver(SystemAssembler& sa, StaticSettings settings) : sa_(sa), settings_(settings) {
+  const PrefixedOptions options(kStaticPrefix);  // -static_snes_... over -snes_...
   // A warm start begins next to an equilibrium where the neutral modes (a load free to turn on
   // its hook) are already known to need the regularized tangent.
   regularized_ = settings_.warm_start && settings_.regularization > 0;
@@ -123,6 +125,7 @@ PetscErrorCode StaticSolver::monitor(SNES, PetscInt it, PetscReal fnorm, void* c
 
 PetscErrorCode StaticSolver::solve(Vec U, StaticReport* report, StepObserver* observer) {
   PetscFunctionBeginUser;
+  const PrefixedOptions options(kStaticPrefix);  // also for what is read while solving (-snes_view)
   observer_ = observer;
   progress_ = StaticIterationInfo{};
   const auto started = std::chrono::steady_clock::now();

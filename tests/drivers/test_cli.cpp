@@ -197,6 +197,28 @@ TEST_F(Cli, OneLogKeepsTheOrderOfItsLines) {
   EXPECT_NE(p.err.find("t = 0.1 / 0.1 s (100.0%)"), std::string::npos) << p.err;
 }
 
+// -static_... options reach the static solver alone, -dyn_... the dynamic one, plain ones both;
+// including options read while solving (-ts_view).
+TEST_F(Cli, SolverPrefixesSeparateStaticsFromDynamics) {
+  write("both.yaml", replaced(kPendulum, "solver:\n", "solver:\n  static: {enabled: true}\n"));
+  const Outcome statics = run("run both.yaml --output a -static_snes_max_it 1");
+  EXPECT_EQ(statics.code, 1) << statics.out << statics.err;
+  EXPECT_NE(statics.err.find("static equilibrium failed"), std::string::npos) << statics.err;
+  EXPECT_EQ(statics.err.find("was not used"), std::string::npos) << statics.err;
+  // From the equilibrium nothing moves: one Newton iteration a step is enough, statics unharmed.
+  const Outcome not_static = run("run both.yaml --output b -dyn_snes_max_it 1");
+  EXPECT_EQ(not_static.code, 0) << not_static.out << not_static.err;
+  EXPECT_NE(not_static.out.find("static equilibrium found"), std::string::npos) << not_static.out;
+  write("pendulum.yaml", kPendulum);  // no statics: the swing needs more than one iteration a step
+  const Outcome dynamics = run("run pendulum.yaml --output d -dyn_snes_max_it 1 -dyn_ts_view");
+  EXPECT_EQ(dynamics.code, 1) << dynamics.out << dynamics.err;
+  EXPECT_NE(dynamics.err.find("dynamics stopped"), std::string::npos) << dynamics.err;
+  EXPECT_NE(dynamics.out.find("type: alpha2"), std::string::npos) << dynamics.out;
+  const Outcome plain = run("run both.yaml --output c -snes_max_it 1");
+  EXPECT_EQ(plain.code, 1) << plain.out << plain.err;
+  EXPECT_NE(plain.err.find("static equilibrium failed"), std::string::npos) << plain.err;
+}
+
 TEST_F(Cli, CheckDescribesAValidModel) {
   write("pendulum.yaml", kPendulum);
   const Outcome o = run("check pendulum.yaml");
