@@ -5,7 +5,7 @@
 // Results and the command are recorded in docs/performance.md; tests never assert times.
 #include "assembly/constraint_evaluator.hpp"
 #include "assembly/system_assembler.hpp"
-#include "elements/cable.hpp"
+#include "elements/rope.hpp"
 #include "elements/cubic_spline_beam.hpp"
 #include "elements/rigid_body.hpp"
 #include "elements/strut_tie.hpp"
@@ -60,12 +60,12 @@ std::unique_ptr<Element> make(int kind) {
   BeamProperties beam{steel, round_tube_section(0.05, 0.04), 1.5, 0.0};
   if (kind == kTimoshenkoBeam) return std::make_unique<TimoshenkoBeam>(beam);
   if (kind == kCubicSplineBeam) return std::make_unique<CubicSplineBeam>(CubicSplineBeamProperties{beam, 5});
-  CableProperties rope;
+  RopeProperties rope;
   rope.material = steel;
   rope.section = round_tube_section(0.01, 0.0);
   rope.drive = Drive::Sine{2.0, 0.1, 0.0, 10.0};  // a rest length in motion: all inertia terms on
   rope.fraction = 0.1;
-  return std::make_unique<Cable>(rope);
+  return std::make_unique<Rope>(rope);
 }
 
 // A deformed state near the element's reference (axis along x, length 1.5 m), moving.

@@ -2,7 +2,7 @@
 // slope blocks), its n elements, and the joints at its ends and at named nodes.
 #include "io/flexible_body_readers.hpp"
 
-#include "elements/cable.hpp"
+#include "elements/rope.hpp"
 #include "elements/cubic_spline_beam.hpp"
 #include "elements/timoshenko_beam.hpp"
 #include "io/rope_shape.hpp"
@@ -141,7 +141,7 @@ void read_rope(ReaderContext& ctx, const InputNode& n, const std::string& name) 
   n.allow_only({"name", "type", "material", "section", "ends", "elements", "rest_length", "rest_length_drive",
                 "initial_sag", "gauss_points", "velocities", "joints"});
   const MemberGeometry g = read_geometry(n);
-  CableProperties p;
+  RopeProperties p;
   p.material = ctx.material(n["material"]);
   p.section = ctx.section(n["section"]);
   double L0 = g.length();
@@ -165,7 +165,7 @@ void read_rope(ReaderContext& ctx, const InputNode& n, const std::string& name) 
   }
   std::shared_ptr<const Element> element;
   try {
-    element = std::make_shared<Cable>(p);
+    element = std::make_shared<Rope>(p);
   } catch (const std::invalid_argument& e) {
     n.fail(e.what());
   }

@@ -5,7 +5,7 @@
 #include "assembly/lattice_builder.hpp"
 #include "assembly/model_builder.hpp"
 #include "core/rotation.hpp"
-#include "elements/cable.hpp"
+#include "elements/rope.hpp"
 #include "elements/cubic_spline_beam.hpp"
 #include "elements/rigid_body.hpp"
 #include "elements/strut_tie.hpp"
@@ -101,7 +101,7 @@ inline void add_flexible_chain(ModelBuilder& b, int attach_joint, int ground_joi
   b.add_element(body, std::make_shared<CubicSplineBeam>(CubicSplineBeamProperties{BeamProperties{soft, tube, (p2 - p1).norm(), 0.0}, 3}),
                 {{t1}, {r1, R01.transpose() * spline_frame}, {s1}, {t2}, {r2, R12.transpose() * spline_frame}, {s2}});
   // A rope from the spline's end to the ground joint, slightly stretched.
-  CableProperties rope;
+  RopeProperties rope;
   rope.material = Material{1000.0, 1e6, 0.3};
   rope.section = round_tube_section(0.01, 0.0);
   const Vec3 pg = b.peek().blocks[b.peek().joints[ground_joint].translation_block].position0;
@@ -109,7 +109,7 @@ inline void add_flexible_chain(ModelBuilder& b, int attach_joint, int ground_joi
   const int v2 = b.add_block(DofBlock::vector((pg - p2) / rope.rest_length + Vec3(0.01, 0, 0), Vec3(0, 0.05, 0), "flex.slope2"));
   const int tg = b.add_block(DofBlock::translation(pg, Vec3::Zero(), "flex.g"));
   const int vg = b.add_block(DofBlock::vector((pg - p2) / rope.rest_length, Vec3(0.02, 0, 0), "flex.slopeg"));
-  b.add_element(body, std::make_shared<Cable>(rope), {{t2}, {v2}, {tg}, {vg}});
+  b.add_element(body, std::make_shared<Rope>(rope), {{t2}, {v2}, {tg}, {vg}});
   Joint j0;
   j0.name = "flex.0";
   j0.translation_block = t0;

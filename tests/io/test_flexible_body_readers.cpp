@@ -3,7 +3,7 @@
 // bad member input names file, line and key.
 #include "io/model_reader.hpp"
 
-#include "elements/cable.hpp"
+#include "elements/rope.hpp"
 #include "elements/cubic_spline_beam.hpp"
 #include "elements/timoshenko_beam.hpp"
 #include "io/input_node.hpp"
@@ -113,7 +113,7 @@ TEST(FlexibleBodyReaders, DrivenRopeStartsAsAShallowParabolaOfItsLength) {
   const Simulation sim = read_simulation_from_string(kMembers, "members.yaml");
   const Model& m = sim.model;
   const Body& rb = m.bodies[m.find_body("rope")];
-  const auto* cable = dynamic_cast<const Cable*>(m.elements[rb.elements[0]].element.get());
+  const auto* cable = dynamic_cast<const Rope*>(m.elements[rb.elements[0]].element.get());
   ASSERT_NE(cable, nullptr);
   EXPECT_DOUBLE_EQ(cable->rest_length(0.0).value, 12.0 / 4);
   EXPECT_DOUBLE_EQ(cable->mass(0.0), 7800 * M_PI * 1e-4 * 3.0);

@@ -1,6 +1,6 @@
 // Rope element: tension-only elastic energy by AD, inertia and gravity in closed form with the
 // rest length and its rates from the drive.
-#include "elements/cable.hpp"
+#include "elements/rope.hpp"
 
 #include "core/quadrature.hpp"
 #include "elements/energy_ad.hpp"
@@ -13,7 +13,7 @@ namespace latticedyn {
 
 namespace {
 
-using CableAD = EnergyAD<9>;  // d = r2 - r1 (0..2), r1' (3..5), r2' (6..8)
+using RopeAD = EnergyAD<9>;  // d = r2 - r1 (0..2), r1' (3..5), r2' (6..8)
 
 Eigen::Matrix<double, 12, 9> energy_to_dofs() {
   Eigen::Matrix<double, 12, 9> P = Eigen::Matrix<double, 12, 9>::Zero();
@@ -33,7 +33,7 @@ const Eigen::Vector4d kHermiteIntegral(0.5, 1.0 / 12, 0.5, -1.0 / 12);
 
 }  // namespace
 
-void CableProperties::validate() const {
+void RopeProperties::validate() const {
   if (!(std::isfinite(material.density) && material.density > 0))
     throw std::invalid_argument("rope density must be positive");
   if (!(std::isfinite(material.youngs_modulus) && material.youngs_modulus > 0))
@@ -45,7 +45,7 @@ void CableProperties::validate() const {
   if (gauss_points < 1 || gauss_points > 64) throw std::invalid_argument("rope Gauss points must be 1..64");
 }
 
-Cable::Cable(CableProperties p) : props_(std::move(p)) {
+Rope::Rope(RopeProperties p) : props_(std::move(p)) {
   props_.validate();
   rho_a_ = props_.section.effective_density(props_.material) * props_.section.area;
   ea_ = props_.material.youngs_modulus * props_.section.area;
@@ -61,13 +61,13 @@ Cable::Cable(CableProperties p) : props_(std::move(p)) {
   }
 }
 
-DriveValue Cable::rest_length(double t) const {
+DriveValue Rope::rest_length(double t) const {
   if (!props_.drive) return DriveValue{props_.rest_length, 0.0, 0.0};
   const DriveValue v = props_.drive->evaluate(t);
   return DriveValue{props_.fraction * v.value, props_.fraction * v.rate, props_.fraction * v.accel};
 }
 
-void Cable::inertia_and_gravity(std::span<const SlotState<double>> s, const ElementContext& ctx, Eigen::Ref<VecX> r,
+void Rope::inertia_and_gravity(std::span<const SlotState<double>> s, const ElementContext& ctx, Eigen::Ref<VecX> r,
                                 ElementTangents* t) const {
   const DriveValue L = rest_length(ctx.time);
   if (!(L.value > 0))
@@ -104,32 +104,32 @@ void Cable::inertia_and_gravity(std::span<const SlotState<double>> s, const Elem
     }
 }
 
-void Cable::residual(std::span<const SlotState<double>> s, const ElementContext& ctx, Eigen::Ref<VecX> r) const {
+void Rope::residual(std::span<const SlotState<double>> s, const ElementContext& ctx, Eigen::Ref<VecX> r) const {
   inertia_and_gravity(s, ctx, r, nullptr);
-  CableAD::FirstOrder ad;
+  RopeAD::FirstOrder ad;
   const double L0 = rest_length(ctx.time).value;
   const auto U = strain_energy<decltype(ad)::S>(ad.vec(s[2].pos - s[0].pos, 0), ad.vec(s[1].pos, 3), ad.vec(s[3].pos, 6), L0);
-  CableAD::Gradient g;
-  CableAD::extract(U, nullptr, &g);
+  RopeAD::Gradient g;
+  RopeAD::extract(U, nullptr, &g);
   static const Eigen::Matrix<double, 12, 9> P = energy_to_dofs();
   r += P * g;
 }
 
-void Cable::tangents(std::span<const SlotState<double>> s, const ElementContext& ctx, ElementTangents& out) const {
+void Rope::tangents(std::span<const SlotState<double>> s, const ElementContext& ctx, ElementTangents& out) const {
   out.resize(12);
   inertia_and_gravity(s, ctx, out.residual, &out);
-  CableAD::SecondOrder ad;
+  RopeAD::SecondOrder ad;
   const double L0 = rest_length(ctx.time).value;
   const auto U = strain_energy<decltype(ad)::S>(ad.vec(s[2].pos - s[0].pos, 0), ad.vec(s[1].pos, 3), ad.vec(s[3].pos, 6), L0);
-  CableAD::Gradient g;
-  CableAD::Stiffness K;
-  CableAD::extract(U, ad, nullptr, &g, &K);
+  RopeAD::Gradient g;
+  RopeAD::Stiffness K;
+  RopeAD::extract(U, ad, nullptr, &g, &K);
   static const Eigen::Matrix<double, 12, 9> P = energy_to_dofs();
   out.residual += P * g;
   out.K += P * K * P.transpose();
 }
 
-ElementEnergy Cable::energy(std::span<const SlotState<double>> s, const ElementContext& ctx) const {
+ElementEnergy Rope::energy(std::span<const SlotState<double>> s, const ElementContext& ctx) const {
   const DriveValue L = rest_length(ctx.time);
   const double m = rho_a_ * L.value;
   Vec3 X[4], Xd[4];
@@ -146,14 +146,14 @@ ElementEnergy Cable::energy(std::span<const SlotState<double>> s, const ElementC
   return e;
 }
 
-std::optional<double> Cable::axial_force(std::span<const SlotState<double>> s, const ElementContext& ctx) const {
+std::optional<double> Rope::axial_force(std::span<const SlotState<double>> s, const ElementContext& ctx) const {
   const double L0 = rest_length(ctx.time).value;
   // dr/dS at the middle, xi = 1/2: (1.5 (r2 - r1))/L0 - r1'/4 - r2'/4.
   const Vec3 rs = 1.5 * (s[2].pos - s[0].pos) / L0 - 0.25 * (s[1].pos + s[3].pos);
   return ea_ * std::max(rs.norm() - 1.0, 0.0);
 }
 
-std::vector<Vec3> Cable::axis_points(std::span<const SlotState<double>> s, const ElementContext& ctx) const {
+std::vector<Vec3> Rope::axis_points(std::span<const SlotState<double>> s, const ElementContext& ctx) const {
   const double L0 = rest_length(ctx.time).value;
   std::vector<Vec3> pts;
   for (int k = 0; k <= 4; ++k) {

@@ -1,15 +1,15 @@
 // Cubic spline rope (thesis 7.2, C.5): tangents against finite differences (with a driven rest
 // length), power identity, no force under rigid motion or compression (tension only), and the
 // mass following the rest length in the span.
-#include "elements/cable.hpp"
+#include "elements/rope.hpp"
 
 #include "element_checks.hpp"
 
 namespace latticedyn {
 namespace {
 
-CableProperties rope(double L0 = 5.0) {
-  CableProperties p;
+RopeProperties rope(double L0 = 5.0) {
+  RopeProperties p;
   p.material = Material{7800.0, 1e11, 0.3};
   p.section = round_tube_section(0.02, 0.0);
   p.rest_length = L0;
@@ -32,23 +32,23 @@ std::vector<SlotState<double>> taut_state(std::mt19937& rng) {
   return s;
 }
 
-TEST(Cable, TangentsMatchFiniteDifferences) {
+TEST(Rope, TangentsMatchFiniteDifferences) {
   std::mt19937 rng(31);
-  CableProperties p = rope();
+  RopeProperties p = rope();
   p.material.youngs_modulus = 1e5;  // soft: elastic and inertial terms of similar size
-  const Cable cable(p);
+  const Rope cable(p);
   const ElementContext ctx{Vec3(0, 0, -9.81), 0.0};
   for (int trial = 0; trial < 10; ++trial)
     testing::expect_tangents_match_finite_differences(cable, taut_state(rng), ctx);
 }
 
-TEST(Cable, TangentsMatchFiniteDifferencesWithDrivenRestLength) {
+TEST(Rope, TangentsMatchFiniteDifferencesWithDrivenRestLength) {
   std::mt19937 rng(32);
-  CableProperties p = rope();
+  RopeProperties p = rope();
   p.material.youngs_modulus = 1e5;
   p.drive = Drive(Drive::Sine{1.0, 0.3, 0.2, 10.0});  // L0 = (10 + sin(...)) / 2, moving
   p.fraction = 0.5;
-  const Cable cable(p);
+  const Rope cable(p);
   const ElementContext ctx{Vec3(0, 0, -9.81), 0.7};
   EXPECT_NE(cable.rest_length(0.7).rate, 0.0);
   EXPECT_NE(cable.rest_length(0.7).accel, 0.0);
@@ -86,11 +86,11 @@ std::vector<SlotState<double>> partly_slack_state(std::mt19937& rng) {
   return s;
 }
 
-TEST(Cable, TangentsMatchFiniteDifferencesAtLargeRotationsAndPartlySlack) {
+TEST(Rope, TangentsMatchFiniteDifferencesAtLargeRotationsAndPartlySlack) {
   std::mt19937 rng(34);
-  CableProperties p = rope();
+  RopeProperties p = rope();
   p.material.youngs_modulus = 1e5;
-  const Cable cable(p);
+  const Rope cable(p);
   const ElementContext ctx{Vec3(0, 0, -9.81), 0.0};
   for (int trial = 0; trial < 10; ++trial) {
     testing::expect_tangents_match_finite_differences(cable, rotated(taut_state(rng), rng), ctx);
@@ -98,9 +98,9 @@ TEST(Cable, TangentsMatchFiniteDifferencesAtLargeRotationsAndPartlySlack) {
   }
 }
 
-TEST(Cable, RigidMotionCarriesNoForceInAnyOrientation) {
+TEST(Rope, RigidMotionCarriesNoForceInAnyOrientation) {
   std::mt19937 rng(35);
-  const Cable cable(rope(5.0));
+  const Rope cable(rope(5.0));
   for (int trial = 0; trial < 10; ++trial) {
     std::vector<SlotState<double>> s(4);
     s[2].pos = Vec3(5.0, 0, 0);  // unstretched and straight
@@ -116,17 +116,17 @@ TEST(Cable, RigidMotionCarriesNoForceInAnyOrientation) {
   }
 }
 
-TEST(Cable, PowerEqualsRateOfEnergy) {
+TEST(Rope, PowerEqualsRateOfEnergy) {
   std::mt19937 rng(33);
-  CableProperties p = rope();
+  RopeProperties p = rope();
   p.material.youngs_modulus = 1e5;
-  const Cable cable(p);
+  const Rope cable(p);
   const ElementContext ctx{Vec3(0, 0, -9.81), 0.0};
   for (int trial = 0; trial < 10; ++trial) testing::expect_power_identity(cable, taut_state(rng), ctx);
 }
 
-TEST(Cable, CarriesNoCompressionAndNoForceInRigidMotion) {
-  const Cable cable(rope(5.0));
+TEST(Rope, CarriesNoCompressionAndNoForceInRigidMotion) {
+  const Rope cable(rope(5.0));
   std::vector<SlotState<double>> s(4);
   const Vec3 t = Vec3(0.3, -0.4, 0.866).normalized();
   s[2].pos = 5.0 * t;  // exactly the rest length: no strain
@@ -148,10 +148,10 @@ TEST(Cable, CarriesNoCompressionAndNoForceInRigidMotion) {
   EXPECT_NEAR(*cable.axial_force(s, ElementContext{}), 0.01 * EA, 1e-9 * EA);
 }
 
-TEST(Cable, MassFollowsTheRestLengthInTheSpan) {
-  CableProperties p = rope();
+TEST(Rope, MassFollowsTheRestLengthInTheSpan) {
+  RopeProperties p = rope();
   p.drive = Drive(Drive::TrapezoidalVelocity{0.0, 10.0, 2.0, 2.0, 20.0, 5.0});  // pay out 5 -> 25 m
-  const Cable cable(p);
+  const Rope cable(p);
   const double rho_a = 7800.0 * p.section.area;
   for (double t : {0.0, 3.0, 10.0}) {
     std::vector<SlotState<double>> s(4);

@@ -12,7 +12,7 @@
 
 namespace latticedyn {
 
-struct CableProperties {
+struct RopeProperties {
   Material material;
   SectionProperties section;
   double rest_length = 0.0;     ///< L0 of this element when no drive is given
@@ -30,7 +30,7 @@ struct CableProperties {
 /// so paying rope out adds mass; with L0(t) driven, r_dot includes L0_dot H2 r1' and the
 /// accelerations L0_ddot and 2 L0_dot terms (the rope's axial transport through its ends is not
 /// modelled). Gravity as the consistent load of the cubic.
-class Cable final : public Element {
+class Rope final : public Element {
  public:
   /// Strains above -kSlackTolerance count as tension (round-off of an unstressed rope).
   static constexpr double kSlackTolerance = 1e-12;
@@ -38,7 +38,7 @@ class Cable final : public Element {
   static constexpr std::array<SlotKind, 4> kSlots = {SlotKind::translation, SlotKind::vector,
                                                       SlotKind::translation, SlotKind::vector};
 
-  explicit Cable(CableProperties p);
+  explicit Rope(RopeProperties p);
 
   std::string_view type_name() const override { return "rope"; }
   bool expensive() const override { return true; }
@@ -53,7 +53,7 @@ class Cable final : public Element {
                                     const ElementContext& ctx) const override;
   std::vector<Vec3> axis_points(std::span<const SlotState<double>> state, const ElementContext& ctx) const override;
 
-  const CableProperties& properties() const { return props_; }
+  const RopeProperties& properties() const { return props_; }
   /// L0, dL0/dt, d2L0/dt2 at time t.
   DriveValue rest_length(double t) const;
   double mass(double t) const { return rho_a_ * rest_length(t).value; }
@@ -65,14 +65,14 @@ class Cable final : public Element {
   void inertia_and_gravity(std::span<const SlotState<double>> s, const ElementContext& ctx, Eigen::Ref<VecX> r,
                            ElementTangents* t) const;
 
-  CableProperties props_;
+  RopeProperties props_;
   double rho_a_ = 0.0, ea_ = 0.0;
   Eigen::Matrix4d hermite_mass_;  ///< integral_0^1 H_i H_j dxi of the unit Hermite functions
   std::vector<double> xi_, w_;    ///< Gauss points on [0, 1]
 };
 
 template <class S>
-S Cable::strain_energy(const Vec3T<S>& d, const Vec3T<S>& t1, const Vec3T<S>& t2, double L0) const {
+S Rope::strain_energy(const Vec3T<S>& d, const Vec3T<S>& t1, const Vec3T<S>& t2, double L0) const {
   using std::sqrt;
   S U(0.0);
   for (std::size_t g = 0; g < xi_.size(); ++g) {
