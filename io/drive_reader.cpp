@@ -2,12 +2,20 @@
 #include "io/drive_reader.hpp"
 
 #include <stdexcept>
+#include <string>
 
 namespace latticedyn {
 
 namespace {
 
-Drive make(const InputNode& n) {
+// Sums of sums through YAML aliases grow geometrically (30 references to a sum of 1,000 constants
+// in 5 kB: every evaluation, and the rope checks take thousands, adds 30,000 terms); no drive a
+// crane needs comes near this many functions.
+constexpr int kMaxDriveFunctions = 1000;
+
+Drive read_counted(const InputNode& n, int* functions);
+
+Drive make(const InputNode& n, int* functions) {
   const std::string type =
       n["type"].as_choice({"constant", "trapezoidal", "cosine_step", "cosine_full", "tanh", "sine", "table", "sum"});
   if (type == "constant") {
@@ -59,18 +67,26 @@ Drive make(const InputNode& n) {
   }
   n.allow_only({"type", "terms"});
   Drive::Sum sum;
-  for (const InputNode& t : n["terms"].items()) sum.terms.push_back(read_drive(t));
+  for (const InputNode& t : n["terms"].items()) sum.terms.push_back(read_counted(t, functions));
   return sum;
+}
+
+Drive read_counted(const InputNode& n, int* functions) {
+  if (++*functions > kMaxDriveFunctions)
+    n.fail("a drive of at most " + std::to_string(kMaxDriveFunctions) +
+           " functions in all (sums of sums counted through their aliases)");
+  try {
+    return make(n, functions);
+  } catch (const std::invalid_argument& e) {
+    n.fail(e.what());
+  }
 }
 
 }  // namespace
 
 Drive read_drive(const InputNode& n) {
-  try {
-    return make(n);
-  } catch (const std::invalid_argument& e) {
-    n.fail(e.what());
-  }
+  int functions = 0;
+  return read_counted(n, &functions);
 }
 
 }  // namespace latticedyn

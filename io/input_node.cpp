@@ -46,18 +46,37 @@ namespace {
 
 // Every key of every map a scalar: yaml-cpp accepts lists and maps as keys ([a]: 1), which no
 // model key can be, and converting one to text would throw far from its line.
-void check_keys(const YAML::Node& n, const std::string& path) {
+// An alias (*name) is its anchor's node again: a node that contains itself (a: &a [*a]) would
+// make this walk, and every reader after it, recurse without end, and anchors that each list the
+// one before twice make a few hundred bytes billions of nodes. So the document, its aliases
+// followed, is limited in depth and in nodes; no document without aliases comes near either.
+constexpr int kMaxDepth = 200;
+constexpr std::size_t kMaxNodesBase = 100000, kMaxNodesPerByte = 4;
+
+void check_node(const YAML::Node& n, const std::string& path, std::size_t& nodes_left, int depth) {
+  if (depth > kMaxDepth || nodes_left-- == 0) {
+    const YAML::Mark m = n.Mark();
+    throw InputError(path, m.line >= 0 ? m.line + 1 : 1, m.column >= 0 ? m.column + 1 : 1, "",
+                     depth > kMaxDepth ? "nested more than " + std::to_string(kMaxDepth) +
+                                             " levels deep (or an alias *name inside its own anchor &name)"
+                                       : "the aliases (*name) expand the document to too many nodes");
+  }
   if (n.IsMap()) {
     for (auto it = n.begin(); it != n.end(); ++it) {
       if (!it->first.IsScalar()) {
         const YAML::Mark m = it->first.Mark();
         throw InputError(path, m.line + 1, m.column + 1, "", "a key must be a plain name, not a list or a map");
       }
-      check_keys(it->second, path);
+      check_node(it->second, path, nodes_left, depth + 1);
     }
   } else if (n.IsSequence()) {
-    for (const YAML::Node& item : n) check_keys(item, path);
+    for (const YAML::Node& item : n) check_node(item, path, nodes_left, depth + 1);
   }
+}
+
+void check_keys(const YAML::Node& root, const std::string& path, std::uintmax_t bytes) {
+  std::size_t nodes_left = kMaxNodesBase + kMaxNodesPerByte * static_cast<std::size_t>(bytes);
+  check_node(root, path, nodes_left, 0);
 }
 
 YAML::Node parse_file(const std::string& path) {
@@ -80,7 +99,7 @@ YAML::Node parse_file(const std::string& path) {
   } catch (const YAML::Exception& e) {
     throw InputError(path, e.mark.line + 1, e.mark.column + 1, "", "YAML syntax error: " + e.msg);
   }
-  check_keys(root, path);
+  check_keys(root, path, ec ? 0 : bytes);
   return root;
 }
 
@@ -231,7 +250,7 @@ InputNode InputNode::load_string(const std::string& text, const std::string& nam
   } catch (const YAML::Exception& e) {
     throw InputError(name, e.mark.line + 1, e.mark.column + 1, "", "YAML syntax error: " + e.msg);
   }
-  check_keys(root, name);
+  check_keys(root, name, text.size());
   return InputNode(root, "", file);
 }
 

@@ -9,6 +9,7 @@ packages=(
   libeigen3-dev libhdf5-openmpi-dev libopenmpi-dev openmpi-bin
   libmetis-dev libyaml-cpp-dev
   libgtest-dev libgmock-dev libbenchmark-dev
+  clang-14 libclang-rt-14-dev libomp-14-dev
   python3 python3-numpy python3-h5py python3-matplotlib python3-yaml
   paraview python3-paraview xvfb xauth ffmpeg libgl1-mesa-dri libglx-mesa0
 )

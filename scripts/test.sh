@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs the dependencies, builds latticedyn and runs the whole test suite under ctest:
 # unit tests, verification cases and the MPI cases, then the unit tests and verification cases
-# of a sanitizer build (scripts/sanitize.sh). This is the README's test command.
+# of a sanitizer build (scripts/sanitize.sh), then two minutes of fuzzing the model reader
+# (scripts/fuzz.sh). This is the README's test command.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh
@@ -15,4 +16,10 @@ ctest --test-dir "${LATTICEDYN_BUILD_DIR:-build}" --output-on-failure -j "$(npro
 # LATTICEDYN_SKIP_SANITIZE=1 leaves it out).
 if [ "${LATTICEDYN_SKIP_SANITIZE:-0}" != 1 ]; then
   scripts/sanitize.sh
+fi
+# The model reader's libFuzzer target for a bounded time on its corpus (clang-14; a third build,
+# of the reader's layers only; LATTICEDYN_SKIP_FUZZ=1 leaves it out, LATTICEDYN_FUZZ_SECONDS
+# changes the time).
+if [ "${LATTICEDYN_SKIP_FUZZ:-0}" != 1 ]; then
+  scripts/fuzz.sh "${LATTICEDYN_FUZZ_SECONDS:-120}"
 fi

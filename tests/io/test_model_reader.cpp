@@ -290,3 +290,55 @@ TEST_F(BaseFiles, OverridesReplaceValuesAtDottedPaths) {
 
 }  // namespace
 }  // namespace latticedyn
+
+namespace latticedyn {
+namespace {
+
+// YAML aliases (found by the model reader's fuzz target): an alias inside its own anchor is a
+// node that contains itself, and anchors that list the one before ten times make a few hundred
+// bytes a billion nodes. Both are input errors at once, not an endless walk or all the memory.
+TEST(ModelReader, AliasesThatNeverEndAreInputErrors) {
+  const auto message = [](const std::string& yaml) {
+    try {
+      read_simulation_from_string(yaml, "alias.yaml");
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(message("title: &a [*a]\n").find("an alias *name inside its own anchor"), std::string::npos)
+      << message("title: &a [*a]\n");
+  std::string laughs = "a0: &a0 [x, x, x, x, x, x, x, x, x, x]\n";
+  for (int k = 1; k <= 9; ++k) {
+    const std::string prev = "*a" + std::to_string(k - 1);
+    laughs += "a" + std::to_string(k) + ": &a" + std::to_string(k) + " [" + prev;
+    for (int i = 1; i < 10; ++i) laughs += ", " + prev;
+    laughs += "]\n";
+  }
+  const std::string m = message(laughs);
+  EXPECT_NE(m.find("expand the document to too many nodes"), std::string::npos) << m;
+  EXPECT_NE(m.find("alias.yaml:"), std::string::npos) << m;
+  // (Stopped at the limit, 4 nodes a byte and at least 100,000; without it the walk takes 10^10.)
+}
+
+// A sum of sums through aliases (found by the fuzz target): 40 references to a sum of 30
+// constants make a drive of 1,241 functions in 400 bytes; every evaluation would add them all.
+TEST(ModelReader, DrivesOfTooManyFunctionsAreInputErrors) {
+  std::string drives = "drives:\n  c: &c {type: constant, value: 0.001}\n  s: &s {type: sum, terms: [*c";
+  for (int i = 1; i < 30; ++i) drives += ", *c";
+  drives += "]}\n  big: {type: sum, terms: [*s";
+  for (int i = 1; i < 40; ++i) drives += ", *s";
+  drives += "]}\n";
+  std::string yaml = kValid;
+  yaml.replace(yaml.find("drives:\n"), 8, drives);
+  try {
+    read_simulation_from_string(yaml, "drives.yaml");
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("a drive of at most 1000 functions"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("drives.big"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace latticedyn
