@@ -43,6 +43,7 @@ export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 export OMP_NUM_THREADS=1
 echo "fuzz.sh: fuzzing the model reader for $seconds s on $(ls "$work/corpus" | wc -l) inputs"
 status=0
+start=$SECONDS
 # The run directory is empty and the working directory: relative paths in a model lead nowhere.
 (cd "$work/run" && "$fuzzer" -max_total_time="$seconds" -max_len=16384 -timeout=10 -rss_limit_mb=4096 \
    -malloc_limit_mb=2048 -dict="$root/tests/fuzz/model_reader.dict" -artifact_prefix="$findings/" \
@@ -50,10 +51,14 @@ status=0
 
 executions=$(sed -n 's/^stat::number_of_executed_units: *//p' "$findings/fuzz.log" | tail -1)
 rate=$(sed -n 's/^stat::average_exec_per_sec: *//p' "$findings/fuzz.log" | tail -1)
-echo "fuzz.sh: ${executions:-?} executions in $seconds s (${rate:-?} per second)"
+echo "fuzz.sh: ${executions:-?} executions in $((SECONDS - start)) s (${rate:-?} per second)"
 if [[ -n "$(ls -A "$work/run")" ]]; then
   echo "fuzz.sh: FINDING: the reader wrote into its working directory: $(ls -A "$work/run")" >&2
   status=1
+fi
+if ((status == 72)) && grep -q "run interrupted" "$findings/fuzz.log"; then  # SIGINT or SIGTERM
+  echo "fuzz.sh: interrupted, no finding up to then" >&2
+  exit 130
 fi
 if ((status != 0)); then
   grep -E "ERROR|SUMMARY|terminate called|what\(\)|Test unit written" "$findings/fuzz.log" >&2 || tail -20 "$findings/fuzz.log" >&2
