@@ -2,7 +2,11 @@
 #include "assembly/model_state.hpp"
 
 #include "assembly/constraint_kernels.hpp"
+#include "core/rotation.hpp"
 
+#include <unsupported/Eigen/AutoDiff>
+
+#include <array>
 #include <tuple>
 
 namespace latticedyn {
@@ -91,6 +95,33 @@ Eigen::VectorXd ModelState::multipliers(int c) const {
   Eigen::VectorXd l(rows);
   for (int i = 0; i < rows; ++i) l(i) = u_.empty() ? 0.0 : u_[first + i];
   return l;
+}
+
+ConstraintReaction ModelState::constraint_reaction(int c) const {
+  // g depends on the joints' frames only, so its derivative with respect to a small motion of the
+  // second frame (translation d, inertial rotation theta: R2 -> (I + skew(theta)) R2) is the
+  // virtual work of the constraint forces on that side.
+  using S = Eigen::AutoDiffScalar<Eigen::Matrix<double, 6, 1>>;
+  const Constraint& con = model_.constraints[c];
+  const auto [r1, R1] = joint_frame_of(con.joint1);
+  const auto [r2, R2] = joint_frame_of(con.joint2);
+  Vec3T<S> d, theta;
+  for (int i = 0; i < 3; ++i) {
+    d(i) = S(0.0, 6, i);
+    theta(i) = S(0.0, 6, 3 + i);
+  }
+  JointPairFrames<S> f;
+  f.r1 = r1.cast<S>();
+  f.R1 = R1.cast<S>();
+  f.r2 = r2.cast<S>() + d;
+  f.R2 = (Mat3T<S>::Identity() + skew(theta)) * R2.cast<S>();
+  const S u(con.drive >= 0 ? model_.drives[con.drive].evaluate(time_).value : 0.0);
+  std::array<S, 6> g;  // the most rows a constraint has (fixed; a driven revolute)
+  latticedyn::constraint_values<S>(con, f, u, g.data());
+  const Eigen::VectorXd lambda = multipliers(c);
+  Eigen::Matrix<double, 6, 1> wrench = Eigen::Matrix<double, 6, 1>::Zero();
+  for (int i = 0; i < con.rows(); ++i) wrench -= lambda(i) * g[static_cast<std::size_t>(i)].derivatives();
+  return ConstraintReaction{r2, wrench.head<3>(), wrench.tail<3>()};
 }
 
 std::pair<double, int> ModelState::max_constraint_violation() const {

@@ -9,6 +9,15 @@
 
 namespace latticedyn {
 
+/// What a constraint does to the side of its second joint: the force and the moment about that
+/// joint's origin, both inertial. Where the constraint holds, the first joint's side gets the
+/// opposite force and, about the second joint's origin, the opposite moment.
+struct ConstraintReaction {
+  Vec3 point = Vec3::Zero();   ///< the second joint's origin, m
+  Vec3 force = Vec3::Zero();   ///< N
+  Vec3 moment = Vec3::Zero();  ///< N m, about `point`
+};
+
 class ModelState {
  public:
   ModelState(const Model& model, const DofMap& dofs);
@@ -38,6 +47,10 @@ class ModelState {
   /// Values of the constraint equations g (zero when satisfied) and the multipliers.
   Eigen::VectorXd constraint_values(int constraint) const;
   Eigen::VectorXd multipliers(int constraint) const;
+  /// The constraint's reaction on its second joint, -(dg/dp2)^T lambda with p2 that joint's pose
+  /// (position, inertial rotation): the constraint forces -G^T lambda of the equations of motion
+  /// gathered into one wrench, for any constraint type and whether or not the joints' bodies move.
+  ConstraintReaction constraint_reaction(int constraint) const;
   /// Largest |g| over all constraints and the constraint where it occurs (-1 if none).
   std::pair<double, int> max_constraint_violation() const;
 

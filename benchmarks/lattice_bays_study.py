@@ -72,9 +72,9 @@ def run(bays, steps, reuse, ranks, interval, work, binary, fresh, extra=(), tag=
 
 def tip_path(probes):
     """Times and positions of the probe (the tip node) from the run's probe table."""
-    data = np.genfromtxt(probes, delimiter=",", names=True)
-    names = data.dtype.names
-    return data["time"], np.column_stack([data[names[1]], data[names[2]], data[names[3]]])
+    # Columns by position: time, then x, y, z of the probe (the header carries units, "tip.x [m]").
+    data = np.genfromtxt(probes, delimiter=",", skip_header=1, ndmin=2)
+    return data[:, 0], data[:, 1:4]
 
 
 def reuse_study(a):

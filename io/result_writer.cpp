@@ -28,7 +28,7 @@ using io::Hid;
 
 namespace {
 
-constexpr int kFormatVersion = 1;
+constexpr int kFormatVersion = 2;  // 2: joint axes, constraint reactions, XDMF blocks
 constexpr std::size_t kPendingBytes = std::size_t{4} << 20;  // rows kept in memory between writes
 
 [[noreturn]] void os_fail(const std::string& what, const fs::path& path, int err) {
@@ -79,6 +79,8 @@ struct ResultWriter::Impl {
   std::vector<ElementOutput> element_out;  // per element: energy, axial forces, drawn polylines
   ElementEnergy energy;
   std::vector<double> points;   // viz points, 3 per point
+  std::vector<double> joint_axes;  // per joint its frame's columns, 9 per joint
+  std::vector<ConstraintReaction> reactions;  // per constraint
   std::vector<double> row;      // one dataset's row of the current step
 
   Impl(const Model& m, ResultWriterOptions o);
@@ -372,6 +374,16 @@ void ResultWriter::Impl::create_series() {
   add(constraints.get(), "violation", {nc}, "m (length rows), 1 (angle rows)", [nc](const ModelState& s, double* out) {
     for (hsize_t c = 0; c < nc; ++c) out[c] = s.constraint_values(static_cast<int>(c)).cwiseAbs().maxCoeff();
   });
+  // The reactions in physical terms, so no reader has to rebuild G to interpret the multipliers.
+  add(constraints.get(), "position", {nc, 3}, "m", [this](const ModelState&, double* out) {
+    for (const ConstraintReaction& r : reactions) copy3(r.point, std::exchange(out, out + 3));
+  });
+  add(constraints.get(), "reaction_force", {nc, 3}, "N", [this](const ModelState&, double* out) {
+    for (const ConstraintReaction& r : reactions) copy3(r.force, std::exchange(out, out + 3));
+  });
+  add(constraints.get(), "reaction_moment", {nc, 3}, "N*m", [this](const ModelState&, double* out) {
+    for (const ConstraintReaction& r : reactions) copy3(r.moment, std::exchange(out, out + 3));
+  });
 
   const Hid elements = group(root, "elements");
   add(elements.get(), "axial_force", {ne}, "N",
@@ -408,10 +420,16 @@ void ResultWriter::Impl::create_viz() {
   const auto np = static_cast<hsize_t>(viz->num_points()), nl = static_cast<hsize_t>(viz->num_lines());
   if (nl == 0) return;  // nothing to draw: no /viz and no XDMF
   const Hid g = group(file.get(), "viz");
+  const int nj = static_cast<int>(model.joints.size()), nc = static_cast<int>(model.constraints.size());
   if (!continuing) {
     io::write_ints(g.get(), "lines", viz->lines(), ctx, 2);
     io::write_ints(g.get(), "body", viz->line_body(), ctx);
     io::write_ints(g.get(), "element", viz->line_element(), ctx);
+    // Vertex lists (0, 1, ..., n-1) of the joints' and the constraints' point grids.
+    std::vector<int> ids(static_cast<std::size_t>(std::max(nj, nc)));
+    for (std::size_t i = 0; i < ids.size(); ++i) ids[i] = static_cast<int>(i);
+    if (nj > 0) io::write_ints(g.get(), "joint_vertices", std::vector<int>(ids.begin(), ids.begin() + nj), ctx);
+    if (nc > 0) io::write_ints(g.get(), "constraint_vertices", std::vector<int>(ids.begin(), ids.begin() + nc), ctx);
   }
   // Drawing coordinates in single precision (7 digits: 5 um on a 50 m crane), half the bytes of
   // the largest dataset; every physical quantity stays double.
@@ -430,8 +448,16 @@ void ResultWriter::Impl::create_viz() {
         out[l] = axial[e];
     }
   });
+  // The joints' frames for glyphs: drawing data, in single precision like the points.
+  for (int axis = 0; axis < 3; ++axis)
+    add(g.get(), std::string("joint_axis_") + "xyz"[axis], {static_cast<hsize_t>(nj), 3}, "1",
+        [this, axis](const ModelState&, double* out) {
+          for (std::size_t j = 0; j < model.joints.size(); ++j)
+            std::copy_n(joint_axes.data() + 9 * j + 3 * axis, 3, out + 3 * j);
+        },
+        true);
   document.emplace(io::XdmfLayout{h5.filename().string(), model.title.empty() ? opts.base_name : model.title,
-                                  viz->num_points(), viz->num_lines()});
+                                  viz->num_points(), viz->num_lines(), nj, nc});
   for (double t : kept_times) document->add_step(t);
 }
 
@@ -451,14 +477,21 @@ void ResultWriter::Impl::compute_step(const ModelState& state) {
     energy.strain += o.energy.strain;
   }
   viz->points(state, element_out, points);
+  joint_axes.resize(9 * model.joints.size());
+  for (std::size_t j = 0; j < model.joints.size(); ++j) {
+    const Mat3 R = state.joint_frame_of(static_cast<int>(j)).second;
+    std::copy(R.data(), R.data() + 9, joint_axes.data() + 9 * j);  // column-major: the axes in turn
+  }
+  reactions.resize(model.constraints.size());
+  for (std::size_t c = 0; c < reactions.size(); ++c) reactions[c] = state.constraint_reaction(static_cast<int>(c));
 }
 
 void ResultWriter::Impl::write_probe_header() {
   probes = std::fopen(csv.c_str(), "w");
   if (!probes) os_fail("create", csv, errno);
-  std::string header = "time";
+  std::string header = "time [s]";
   for (int j : opts.probe_joints)
-    for (const char* c : {".x", ".y", ".z", ".vx", ".vy", ".vz"}) {
+    for (const char* c : {".x [m]", ".y [m]", ".z [m]", ".vx [m/s]", ".vy [m/s]", ".vz [m/s]"}) {
       header += ',';
       header += csv_field(model.joints[j].name + c);
     }

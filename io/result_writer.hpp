@@ -43,7 +43,7 @@ struct ResultWriterOptions {
 /// Writes one output time per append(). The layout, in full, is in docs/output-format.md; in short
 /// (T = steps written, every real in IEEE double, SI units):
 ///
-///   /                        attributes title, generator = "latticedyn", format_version = 1
+///   /                        attributes title, generator = "latticedyn", format_version = 2
 ///   /model/...               static description: block indices, labels, names, types, counts
 ///   /time                    T
 ///   /blocks/position         T x nTrans x 3   inertial, of every translation block (fixed too)
@@ -55,12 +55,16 @@ struct ResultWriterOptions {
 ///   /joints/position, /joints/velocity        T x nJoints x 3, inertial
 ///   /constraints/multipliers T x nRows        all constraints' rows, in constraint order
 ///   /constraints/violation   T x nConstraints max |g| of each constraint
+///   /constraints/position, reaction_force, reaction_moment  T x nConstraints x 3: the wrench
+///                            on each constraint's second joint (ModelState::constraint_reaction)
 ///   /elements/axial_force    T x nElements    NaN for elements without one
 ///   /energy                  T x 3            kinetic, gravity potential, strain
 ///   /energy_total            T
 ///   /drives/value            T x nDrives      each drive's value (rest lengths, angles)
-///   /viz/points, /viz/displacement  T x nPoints x 3;  /viz/axial_force T x nLines
-///   /viz/lines nLines x 2, /viz/body nLines, /viz/element nLines (static)
+///   /viz/points T x nPoints x 3;  /viz/axial_force T x nLines
+///   /viz/joint_axis_x, _y, _z T x nJoints x 3 (the joints' frames, for glyphs)
+///   /viz/lines nLines x 2, /viz/body nLines, /viz/element nLines, /viz/joint_vertices,
+///   /viz/constraint_vertices (static)
 ///
 /// A time series whose row would be empty (no constraints, no rotation blocks, ...) is not
 /// created. Time series are chunked along time and extended by one entry per append; the file is

@@ -9,8 +9,8 @@
 #include <charconv>
 #include <cstdio>
 #include <cstring>
+#include <functional>
 #include <stdexcept>
-#include <string_view>
 #include <system_error>
 
 namespace latticedyn::io {
@@ -34,73 +34,116 @@ std::string xml_escape(const std::string& s) {
 }  // namespace
 
 void XdmfDocument::add_step(double time) {
-  std::string& x = grids_;
   const std::string h5 = xml_escape(layout_.h5_name), step = std::to_string(steps_);
-  const std::string lines = std::to_string(layout_.lines), points = std::to_string(layout_.points);
+  Block* block = nullptr;  // everything below appends to this block's grids
 
-  // A DataItem selecting this step's entry of a (T, n) or (T, n, 3) dataset as a (1, n[, 3]) array.
-  auto slab = [&](const char* dataset, const std::string& n, bool vector, const std::string& at) {
-    x += "          <DataItem ItemType=\"HyperSlab\" Type=\"HyperSlab\" Dimensions=\"1 " + n +
-         (vector ? " 3" : "") + "\">\n";
+  auto put = [&](const std::string& s) { block->grids += s; };
+  // A DataItem selecting this step's entry `at` of a (T, n) or (T, n, 3) dataset as a (1, n[, 3])
+  // array; `precision` is 4 for the drawing data stored in single precision, else 8.
+  auto slab = [&](const char* dataset, const std::string& n, bool vector, const std::string& at,
+                  const char* precision = "8") {
+    put("            <DataItem ItemType=\"HyperSlab\" Type=\"HyperSlab\" Dimensions=\"1 " + n + (vector ? " 3" : "") +
+        "\">\n");
     if (vector)
-      x += "            <DataItem Dimensions=\"3 3\" NumberType=\"Int\" Format=\"XML\">" + at + " 0 0 1 1 1 1 " +
-           n + " 3</DataItem>\n";
+      put("              <DataItem Dimensions=\"3 3\" NumberType=\"Int\" Format=\"XML\">" + at + " 0 0 1 1 1 1 " + n +
+          " 3</DataItem>\n");
     else
-      x += "            <DataItem Dimensions=\"3 2\" NumberType=\"Int\" Format=\"XML\">" + at + " 0 1 1 1 " + n +
-           "</DataItem>\n";
-    x += "            <DataItem Dimensions=\"";
-    gaps_.push_back(x.size());
-    // /viz/points is stored in single precision, everything else in double.
-    const char* precision = std::string_view(dataset) == "points" ? "4" : "8";
-    x += " " + n + (vector ? " 3" : "") + "\" NumberType=\"Float\" Precision=\"" + precision + "\" Format=\"HDF\">" + h5 +
-         ":/viz/" + dataset + "</DataItem>\n";
-    x += "          </DataItem>\n";
+      put("              <DataItem Dimensions=\"3 2\" NumberType=\"Int\" Format=\"XML\">" + at + " 0 1 1 1 " + n +
+          "</DataItem>\n");
+    put("              <DataItem Dimensions=\"");
+    block->gaps.push_back(block->grids.size());
+    put(" " + n + (vector ? " 3" : "") + "\" NumberType=\"Float\" Precision=\"" + precision + "\" Format=\"HDF\">" + h5 +
+        ":" + dataset + "</DataItem>\n");
+    put("            </DataItem>\n");
   };
-  auto static_cell_ints = [&](const char* name) {
-    x += std::string("        <Attribute Name=\"") + name + "\" AttributeType=\"Scalar\" Center=\"Cell\">\n";
-    x += "          <DataItem Dimensions=\"" + lines + "\" NumberType=\"Int\" Precision=\"4\" Format=\"HDF\">" + h5 +
-         ":/viz/" + name + "</DataItem>\n";
-    x += "        </Attribute>\n";
+  auto attribute = [&](const char* name, bool vector, bool cell, const std::function<void()>& data) {
+    put(std::string("          <Attribute Name=\"") + name + "\" AttributeType=\"" + (vector ? "Vector" : "Scalar") +
+        "\" Center=\"" + (cell ? "Cell" : "Node") + "\">\n");
+    data();
+    put("          </Attribute>\n");
+  };
+  auto static_ints = [&](const std::string& n, const char* dataset) {
+    put("            <DataItem Dimensions=\"" + n + "\" NumberType=\"Int\" Precision=\"4\" Format=\"HDF\">" + h5 + ":" +
+        dataset + "</DataItem>\n");
+  };
+  auto begin_grid = [&](Block& b) {
+    block = &b;
+    put("        <Grid Name=\"" + b.name + " " + step + "\" GridType=\"Uniform\">\n");
+    put("          <Time Value=\"" + format_double(time) + "\"/>\n");
+  };
+  // A grid of one vertex per point of a (T, n, 3) position series.
+  auto vertices = [&](Block& b, int count, const char* positions, const char* ids) {
+    const std::string n = std::to_string(count);
+    begin_grid(b);
+    put("          <Topology TopologyType=\"Polyvertex\" NodesPerElement=\"1\" NumberOfElements=\"" + n + "\">\n");
+    static_ints(n, ids);
+    put("          </Topology>\n          <Geometry GeometryType=\"XYZ\">\n");
+    slab(positions, n, true, step);
+    put("          </Geometry>\n");
   };
 
-  x += "      <Grid Name=\"step " + step + "\" GridType=\"Uniform\">\n";
-  x += "        <Time Value=\"" + format_double(time) + "\"/>\n";
-  x += "        <Topology TopologyType=\"Polyline\" NodesPerElement=\"2\" NumberOfElements=\"" + lines + "\">\n";
-  x += "          <DataItem Dimensions=\"" + lines + " 2\" NumberType=\"Int\" Precision=\"4\" Format=\"HDF\">" + h5 +
-       ":/viz/lines</DataItem>\n";
-  x += "        </Topology>\n        <Geometry GeometryType=\"XYZ\">\n";
-  slab("points", points, true, step);
-  x += "        </Geometry>\n";
+  const std::string lines = std::to_string(layout_.lines), points = std::to_string(layout_.points);
+  begin_grid(members_);
+  put("          <Topology TopologyType=\"Polyline\" NodesPerElement=\"2\" NumberOfElements=\"" + lines + "\">\n");
+  put("            <DataItem Dimensions=\"" + lines + " 2\" NumberType=\"Int\" Precision=\"4\" Format=\"HDF\">" + h5 +
+      ":/viz/lines</DataItem>\n");
+  put("          </Topology>\n          <Geometry GeometryType=\"XYZ\">\n");
+  slab("/viz/points", points, true, step, "4");
+  put("          </Geometry>\n");
   // The displacement since the first output, computed by the reader from the points (the .h5
   // does not repeat them).
-  x += "        <Attribute Name=\"displacement\" AttributeType=\"Vector\" Center=\"Node\">\n";
-  x += "          <DataItem ItemType=\"Function\" Function=\"$0 - $1\" Dimensions=\"1 " + points + " 3\">\n";
-  slab("points", points, true, step);
-  slab("points", points, true, "0");
-  x += "          </DataItem>\n";
-  x += "        </Attribute>\n";
-  x += "        <Attribute Name=\"axial_force\" AttributeType=\"Scalar\" Center=\"Cell\">\n";
-  slab("axial_force", lines, false, step);
-  x += "        </Attribute>\n";
-  static_cell_ints("body");
-  static_cell_ints("element");
-  x += "      </Grid>\n";
+  attribute("displacement [m]", true, false, [&] {
+    put("            <DataItem ItemType=\"Function\" Function=\"$0 - $1\" Dimensions=\"1 " + points + " 3\">\n");
+    slab("/viz/points", points, true, step, "4");
+    slab("/viz/points", points, true, "0", "4");
+    put("            </DataItem>\n");
+  });
+  attribute("axial_force [N]", false, true, [&] { slab("/viz/axial_force", lines, false, step); });
+  attribute("body", false, true, [&] { static_ints(lines, "/viz/body"); });
+  attribute("element", false, true, [&] { static_ints(lines, "/viz/element"); });
+  put("        </Grid>\n");
+
+  if (layout_.joints > 0) {
+    const std::string n = std::to_string(layout_.joints);
+    vertices(joints_, layout_.joints, "/joints/position", "/viz/joint_vertices");
+    attribute("velocity [m/s]", true, false, [&] { slab("/joints/velocity", n, true, step); });
+    for (const char* axis : {"axis_x", "axis_y", "axis_z"}) {
+      const std::string dataset = std::string("/viz/joint_") + axis;
+      attribute(axis, true, false, [&] { slab(dataset.c_str(), n, true, step, "4"); });
+    }
+    attribute("body", false, false, [&] { static_ints(n, "/model/joint_body"); });
+    put("        </Grid>\n");
+  }
+  if (layout_.constraints > 0) {
+    const std::string n = std::to_string(layout_.constraints);
+    vertices(constraints_, layout_.constraints, "/constraints/position", "/viz/constraint_vertices");
+    attribute("reaction_force [N]", true, false, [&] { slab("/constraints/reaction_force", n, true, step); });
+    attribute("reaction_moment [N m]", true, false, [&] { slab("/constraints/reaction_moment", n, true, step); });
+    attribute("constraint", false, false, [&] { static_ints(n, "/viz/constraint_vertices"); });
+    put("        </Grid>\n");
+  }
   ++steps_;
 }
 
 std::string XdmfDocument::text() const {
   const std::string steps = std::to_string(steps_);
   std::string x;
-  x.reserve(grids_.size() + steps.size() * gaps_.size() + 512);
+  x.reserve(members_.grids.size() + joints_.grids.size() + constraints_.grids.size() +
+            steps.size() * (members_.gaps.size() + joints_.gaps.size() + constraints_.gaps.size()) + 1024);
   x += "<?xml version=\"1.0\" ?>\n<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n<Xdmf Version=\"2.0\">\n  <Domain>\n";
-  x += "    <Grid Name=\"" + xml_escape(layout_.title) + "\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
-  std::size_t from = 0;
-  for (std::size_t gap : gaps_) {
-    x.append(grids_, from, gap - from);
-    x += steps;
-    from = gap;
+  x += "    <Grid Name=\"" + xml_escape(layout_.title) + "\" GridType=\"Collection\" CollectionType=\"Spatial\">\n";
+  for (const Block* b : {&members_, &joints_, &constraints_}) {
+    if (b->grids.empty()) continue;
+    x += "      <Grid Name=\"" + b->name + "\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+    std::size_t from = 0;
+    for (std::size_t gap : b->gaps) {
+      x.append(b->grids, from, gap - from);
+      x += steps;
+      from = gap;
+    }
+    x.append(b->grids, from, std::string::npos);
+    x += "      </Grid>\n";
   }
-  x.append(grids_, from, std::string::npos);
   x += "    </Grid>\n  </Domain>\n</Xdmf>\n";
   return x;
 }

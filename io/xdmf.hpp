@@ -15,13 +15,20 @@ struct XdmfLayout {
   std::string title;    ///< name of the temporal collection
   int points = 0;       ///< rows of /viz/points per step
   int lines = 0;        ///< rows of /viz/lines
+  int joints = 0;       ///< rows of /joints/position per step (0: no "joints" block)
+  int constraints = 0;  ///< rows of /constraints/position per step (0: no "constraints" block)
 };
 
 /// XDMF 2 document for ParaView's "XDMF Reader" (the Xdmf3 readers misread multi-dimensional
-/// hyperslabs, see docs/output-format.md): a temporal collection with one Uniform grid per step,
-/// step k selecting entry k of /viz/points, /viz/displacement and /viz/axial_force, plus the
-/// static /viz/lines, /viz/body and /viz/element. Each grid is formatted once; text() only
-/// splices in the current number of steps, which every HDF DataItem declares.
+/// hyperslabs, see docs/output-format.md): a spatial collection (a multiblock dataset in ParaView)
+/// of three temporal collections, the blocks "members" (line cells through /viz/points with axial
+/// force, body and element), "joints" (a vertex per joint: velocity, frame axes, body) and
+/// "constraints" (a vertex per constraint at its second joint: reaction force and moment), each
+/// with one Uniform grid per step selecting entry k of its time series. Blocks are collections
+/// of their own, not steps of one, so their names stay the same at every time (ParaView makes
+/// repeated grid names unique by numbering them). Attribute names carry their units
+/// ("axial_force [N]"). Each grid is formatted once; text() only splices in the current number
+/// of steps, which every HDF DataItem declares.
 class XdmfDocument {
  public:
   explicit XdmfDocument(XdmfLayout layout) : layout_(std::move(layout)) {}
@@ -32,9 +39,14 @@ class XdmfDocument {
   std::string text() const;
 
  private:
+  /// One block's grids, the number of steps left out at `gaps` (offsets into `grids`).
+  struct Block {
+    std::string name;
+    std::string grids;
+    std::vector<std::size_t> gaps;
+  };
   XdmfLayout layout_;
-  std::string grids_;              // all grids, the number of steps left out at gaps_
-  std::vector<std::size_t> gaps_;  // offsets into grids_ where the number of steps belongs
+  Block members_{"members", {}, {}}, joints_{"joints", {}, {}}, constraints_{"constraints", {}, {}};
   int steps_ = 0;
 };
 

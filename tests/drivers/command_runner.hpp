@@ -1,7 +1,8 @@
 // Running the latticedyn executable from tests: a command line in a folder, its exit code and
-// what it printed, optionally under an MPI launcher.
+// what it printed, optionally under an MPI launcher; and reading what it wrote.
 #pragma once
 
+#include <hdf5.h>
 #include <sys/wait.h>
 
 #include <array>
@@ -12,6 +13,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 namespace latticedyn::testing {
 
@@ -60,6 +62,23 @@ inline std::array<double, 3> first_probe_position(const std::filesystem::path& c
   if (row == std::string::npos || std::sscanf(text.c_str() + row + 1, "%lf,%lf,%lf,%lf", &t, &p[0], &p[1], &p[2]) != 4)
     return {NAN, NAN, NAN};
   return p;
+}
+
+/// A whole dataset of a results file as doubles, row-major (empty if it cannot be read).
+inline std::vector<double> dataset(const std::filesystem::path& file, const char* name) {
+  std::vector<double> v;
+  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (f < 0) return v;
+  const hid_t d = H5Dopen2(f, name, H5P_DEFAULT);
+  if (d >= 0) {
+    const hid_t space = H5Dget_space(d);
+    v.resize(static_cast<std::size_t>(H5Sget_simple_extent_npoints(space)));
+    if (H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()) < 0) v.clear();
+    H5Sclose(space);
+    H5Dclose(d);
+  }
+  H5Fclose(f);
+  return v;
 }
 
 /// Two (or n) MPI ranks on any machine, also as root (CI): Open MPI refuses root without these.

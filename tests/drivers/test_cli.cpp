@@ -271,6 +271,53 @@ TEST_F(Cli, UsageErrorsExitWithTwo) {
   EXPECT_NE(missing.err.find("nowhere.yaml"), std::string::npos) << missing.err;
 }
 
+// The last step's n rows of three of a (T, n, 3) dataset of a results file.
+std::vector<double> last_rows(const fs::path& file, const char* name, std::size_t n) {
+  const std::vector<double> all = latticedyn::testing::dataset(file, name);
+  if (all.size() < 3 * n) return {};
+  return {all.end() - static_cast<std::ptrdiff_t>(3 * n), all.end()};
+}
+
+// Constraint reactions in the results, against statics by hand: a rod clamped at one end carries
+// its weight m g and the moment m g c about the clamp (c the centroid's distance); a bob hung from
+// a ball joint, its weight and no moment.
+TEST_F(Cli, StaticReactionsCarryTheWeights) {
+  write("reactions.yaml", R"(title: reactions
+gravity: [0, 0, -9.81]
+ground:
+  joints:
+    - {name: wall, position: [0, 0, 0]}
+    - {name: pivot, position: [5, 0, 0]}
+bodies:
+  - {name: arm, type: rigid_body, mass: 3.0, centroid: [1.2, 0, 0], inertia: [0.1, 0.5, 0.5],
+     joints: [{name: root, position: [0, 0, 0]}]}
+  - {name: bob, type: rigid_body, mass: 2.0, centroid: [5, 0, -1], inertia: [0.01, 0.01, 0.01],
+     joints: [{name: top, position: [5, 0, 0]}]}
+constraints:
+  - {name: clamp, type: fixed, joints: [ground.wall, arm.root]}
+  - {name: hinge, type: spherical, joints: [ground.pivot, bob.top]}
+)");
+  const Outcome o = run("static reactions.yaml --output out");
+  ASSERT_EQ(o.code, 0) << o.out << o.err;
+  const fs::path h5 = dir_ / "out/reactions.h5";
+  const std::vector<double> force = last_rows(h5, "/constraints/reaction_force", 2);
+  const std::vector<double> moment = last_rows(h5, "/constraints/reaction_moment", 2);
+  const std::vector<double> point = last_rows(h5, "/constraints/position", 2);
+  const std::vector<double> weight{0, 0, 3.0 * 9.81, 0, 0, 2.0 * 9.81};
+  const std::vector<double> clamp_moment{0, -3.0 * 9.81 * 1.2, 0, 0, 0, 0};  // c x (-m g e_z), reversed
+  const std::vector<double> at{0, 0, 0, 5, 0, 0};
+  ASSERT_EQ(force.size(), 6u);
+  ASSERT_EQ(moment.size(), 6u);
+  ASSERT_EQ(point.size(), 6u);
+  for (int i = 0; i < 6; ++i) {
+    EXPECT_NEAR(force[i], weight[i], 1e-9) << i;
+    EXPECT_NEAR(moment[i], clamp_moment[i], 1e-9) << i;
+    EXPECT_NEAR(point[i], at[i], 1e-12) << i;
+  }
+  const std::string xdmf = slurp(dir_ / "out/reactions.xdmf");
+  EXPECT_NE(xdmf.find("<Attribute Name=\"reaction_force [N]\""), std::string::npos);
+}
+
 TEST_F(Cli, DynamicFailureSaysWhereAndKeepsResults) {
   write("pendulum.yaml", kPendulum);
   // One Newton iteration per step cannot converge: the run must stop and say so.

@@ -111,11 +111,13 @@ TEST(Control, PipelineOnOneAndTwoRanks) {
   auto probe = read_columns(dir / "alone" / "control_drives_probes.csv");
   ASSERT_FALSE(probe.empty());
   std::string joint;
+  // The probe table's header names its columns with their units: "load.1.x [m]".
+  EXPECT_EQ(probe.count("time [s]"), 1u);
   for (const auto& [name, column] : probe)
-    if (name.size() > 2 && name.ends_with(".x")) joint = name.substr(0, name.size() - 2);
+    if (name.ends_with(".x [m]")) joint = name.substr(0, name.size() - 6);
   ASSERT_FALSE(joint.empty());
-  EXPECT_NEAR(probe[joint + ".x"].back(), tr["x"].front(), 1e-3);
-  EXPECT_NEAR(probe[joint + ".z"].back(), tr["z"].front(), 1e-3);
+  EXPECT_NEAR(probe[joint + ".x [m]"].back(), tr["x"].front(), 1e-3);
+  EXPECT_NEAR(probe[joint + ".z [m]"].back(), tr["z"].front(), 1e-3);
 
   // The report's plots (the PNG half of scripts/control.sh).
   const Outcome plots = latticedyn::testing::run_in(dir, "/usr/bin/python3", std::string(CONTROL_REPORT) + " one", "", 300);

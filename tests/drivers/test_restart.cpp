@@ -17,6 +17,7 @@ namespace {
 namespace fs = std::filesystem;
 using latticedyn::testing::Outcome;
 using latticedyn::testing::slurp;
+using latticedyn::testing::dataset;
 
 class Restart : public ::testing::Test {
  public:
@@ -33,23 +34,6 @@ class Restart : public ::testing::Test {
   }
   fs::path dir_;
 };
-
-// A whole dataset of a results file as doubles (empty if it cannot be read).
-std::vector<double> dataset(const fs::path& file, const char* name) {
-  std::vector<double> v;
-  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
-  if (f < 0) return v;
-  const hid_t d = H5Dopen2(f, name, H5P_DEFAULT);
-  if (d >= 0) {
-    const hid_t space = H5Dget_space(d);
-    v.resize(static_cast<std::size_t>(H5Sget_simple_extent_npoints(space)));
-    if (H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()) < 0) v.clear();
-    H5Sclose(space);
-    H5Dclose(d);
-  }
-  H5Fclose(f);
-  return v;
-}
 
 // The same model as `name`_full and `name`_part, checkpoints every `interval` s.
 void write_pair(Restart& t, const std::string& name, const std::string& base, double interval) {

@@ -11,13 +11,13 @@
 
 #include <gtest/gtest.h>
 
-#include <map>
 #include <hdf5.h>
 #include <petscvec.h>
 #include <unistd.h>
 
 #include <cmath>
 #include <fstream>
+#include <map>
 #include <numbers>
 #include <regex>
 #include <sstream>
@@ -217,47 +217,83 @@ void expect_well_formed(const std::string& xml) {
   EXPECT_EQ(roots, 1);
 }
 
+/// The attribute names of the first grid of an XDMF block, in order.
+std::vector<std::string> attribute_names(const std::string& block_text) {
+  std::vector<std::string> names;
+  const std::string first = block_text.substr(0, block_text.find("</Grid>"));
+  const std::regex attribute("<Attribute Name=\"([^\"]+)\"");
+  for (auto it = std::sregex_iterator(first.begin(), first.end(), attribute); it != std::sregex_iterator(); ++it)
+    names.push_back((*it)[1]);
+  return names;
+}
+
 /// Checks the XDMF's structure and that each of its HDF references names an existing dataset of
-/// the declared dimensions in `h5`, by a file name relative to the XDMF.
-void expect_xdmf_matches(const fs::path& xdmf, hid_t h5, const std::vector<double>& times) {
+/// the declared dimensions in `h5`, by a file name relative to the XDMF: a spatial collection of
+/// the temporal collections "members", then "joints" and "constraints" when the model has them,
+/// each with one grid per time and the attributes ParaView shows, units in their names.
+void expect_xdmf_matches(const fs::path& xdmf, hid_t h5, const std::vector<double>& times, bool joints = true,
+                         bool constraints = true) {
   const std::string text = slurp(xdmf);
   expect_well_formed(text);
-  EXPECT_NE(text.find("CollectionType=\"Temporal\""), std::string::npos);
+  EXPECT_NE(text.find("CollectionType=\"Spatial\""), std::string::npos);
 
-  const std::regex uniform("GridType=\"Uniform\"");
-  EXPECT_EQ(std::distance(std::sregex_iterator(text.begin(), text.end(), uniform), std::sregex_iterator()),
-            static_cast<long>(times.size()));
-
-  const std::regex time("<Time Value=\"([^\"]+)\"/>");
-  std::size_t k = 0;
-  for (auto it = std::sregex_iterator(text.begin(), text.end(), time); it != std::sregex_iterator(); ++it, ++k) {
-    ASSERT_LT(k, times.size());
-    EXPECT_EQ(std::stod((*it)[1]), times[k]);
+  std::vector<std::string> expected_blocks{"members"};
+  if (joints) expected_blocks.emplace_back("joints");
+  if (constraints) expected_blocks.emplace_back("constraints");
+  const std::regex temporal("<Grid Name=\"([a-z]+)\" GridType=\"Collection\" CollectionType=\"Temporal\">");
+  std::vector<std::string> blocks;
+  std::vector<std::size_t> starts;
+  for (auto it = std::sregex_iterator(text.begin(), text.end(), temporal); it != std::sregex_iterator(); ++it) {
+    blocks.push_back((*it)[1]);
+    starts.push_back(static_cast<std::size_t>(it->position()));
   }
-  EXPECT_EQ(k, times.size());
-
-  const std::regex item("<DataItem Dimensions=\"([0-9 ]+)\"([^>]*)Format=\"HDF\">([^<:]+):([^<]+)</DataItem>");
-  int references = 0;
-  for (auto it = std::sregex_iterator(text.begin(), text.end(), item); it != std::sregex_iterator(); ++it) {
-    ++references;
-    const std::string attrs = (*it)[2], file = (*it)[3], path = (*it)[4];
-    EXPECT_EQ(file, xdmf.stem().string() + ".h5");
-    ASSERT_TRUE(exists(h5, path)) << path;
-    const hid_t ds = H5Dopen2(h5, path.c_str(), H5P_DEFAULT);
-    std::vector<hsize_t> declared;
-    std::istringstream dims((*it)[1]);
-    for (hsize_t d; dims >> d;) declared.push_back(d);
-    EXPECT_EQ(shape(ds), declared) << path;
-    const hid_t t = H5Dget_type(ds);
-    if (H5Tget_class(t) == H5T_FLOAT) {  // the declared precision is the dataset's
-      EXPECT_NE(attrs.find("Precision=\"" + std::to_string(H5Tget_size(t)) + "\""), std::string::npos) << path;
+  ASSERT_EQ(blocks, expected_blocks);
+  starts.push_back(text.size());
+  const std::map<std::string, std::vector<std::string>> attributes{
+      {"members", {"displacement [m]", "axial_force [N]", "body", "element"}},
+      {"joints", {"velocity [m/s]", "axis_x", "axis_y", "axis_z", "body"}},
+      {"constraints", {"reaction_force [N]", "reaction_moment [N m]", "constraint"}}};
+  // HDF references per grid: lines, points, displacement (points now and at step 0), axial
+  // force, body, element; a vertex block: vertices, positions, then one per attribute.
+  const std::map<std::string, int> references_per_grid{{"members", 7}, {"joints", 7}, {"constraints", 5}};
+  for (std::size_t b = 0; b < blocks.size(); ++b) {
+    const std::string block = text.substr(starts[b], starts[b + 1] - starts[b]);
+    SCOPED_TRACE(blocks[b]);
+    const std::regex uniform("<Grid Name=\"" + blocks[b] + " ([0-9]+)\" GridType=\"Uniform\">");
+    long k = 0;
+    for (auto it = std::sregex_iterator(block.begin(), block.end(), uniform); it != std::sregex_iterator(); ++it, ++k)
+      EXPECT_EQ(std::stol((*it)[1]), k);
+    EXPECT_EQ(k, static_cast<long>(times.size()));
+    const std::regex time("<Time Value=\"([^\"]+)\"/>");
+    std::size_t t = 0;
+    for (auto it = std::sregex_iterator(block.begin(), block.end(), time); it != std::sregex_iterator(); ++it, ++t) {
+      ASSERT_LT(t, times.size());
+      EXPECT_EQ(std::stod((*it)[1]), times[t]);
     }
-    H5Tclose(t);
-    H5Dclose(ds);
+    EXPECT_EQ(t, times.size());
+    EXPECT_EQ(attribute_names(block), attributes.at(blocks[b]));
+
+    const std::regex item("<DataItem Dimensions=\"([0-9 ]+)\"([^>]*)Format=\"HDF\">([^<:]+):([^<]+)</DataItem>");
+    int references = 0;
+    for (auto it = std::sregex_iterator(block.begin(), block.end(), item); it != std::sregex_iterator(); ++it) {
+      ++references;
+      const std::string attrs = (*it)[2], file = (*it)[3], path = (*it)[4];
+      EXPECT_EQ(file, xdmf.stem().string() + ".h5");
+      ASSERT_TRUE(exists(h5, path)) << path;
+      const hid_t ds = H5Dopen2(h5, path.c_str(), H5P_DEFAULT);
+      std::vector<hsize_t> declared;
+      std::istringstream dims((*it)[1]);
+      for (hsize_t d; dims >> d;) declared.push_back(d);
+      EXPECT_EQ(shape(ds), declared) << path;
+      const hid_t type = H5Dget_type(ds);
+      if (H5Tget_class(type) == H5T_FLOAT) {  // the declared precision is the dataset's
+        EXPECT_NE(attrs.find("Precision=\"" + std::to_string(H5Tget_size(type)) + "\""), std::string::npos) << path;
+      }
+      H5Tclose(type);
+      H5Dclose(ds);
+    }
+    EXPECT_EQ(references, references_per_grid.at(blocks[b]) * static_cast<int>(times.size()));
   }
-  // Per grid: lines, points, displacement (points at this step minus points at step 0),
-  // axial_force, body, element.
-  EXPECT_EQ(references, 7 * static_cast<int>(times.size()));
   const std::regex function("<DataItem ItemType=\"Function\" Function=\"\\$0 - \\$1\" Dimensions=\"1 [0-9]+ 3\">");
   EXPECT_EQ(std::distance(std::sregex_iterator(text.begin(), text.end(), function), std::sregex_iterator()),
             static_cast<long>(times.size()));
@@ -293,7 +329,7 @@ TEST(ResultWriter, RoundTripOfThreeSteps) {
   ASSERT_GE(f.id, 0);
   EXPECT_EQ(string_attribute(f.id, "generator"), "latticedyn");
   EXPECT_EQ(string_attribute(f.id, "title"), model.title);
-  EXPECT_EQ(int_attribute(f.id, "format_version"), 1);
+  EXPECT_EQ(int_attribute(f.id, "format_version"), 2);
 
   const std::vector<double> times{0.0, 0.1, 0.2};
   EXPECT_EQ(read<double>(f.id, "/time").v, times);
@@ -449,9 +485,9 @@ TEST(ResultWriter, RoundTripOfThreeSteps) {
   const auto csv = read_csv(writer.csv_path());
   ASSERT_EQ(csv.size(), 4u);
   for (const auto& row : csv) EXPECT_EQ(row.size(), 13u);
-  EXPECT_EQ(csv[0][0], "time");
-  EXPECT_EQ(csv[0][1], "d.1.x");
-  EXPECT_EQ(csv[0][12], "a.0.vz");
+  EXPECT_EQ(csv[0][0], "time [s]");
+  EXPECT_EQ(csv[0][1], "d.1.x [m]");
+  EXPECT_EQ(csv[0][12], "a.0.vz [m/s]");
   for (int k = 0; k < 3; ++k) {
     const ModelState& s = run.states[k];
     EXPECT_EQ(std::stod(csv[k + 1][0]), times[k]);
@@ -559,10 +595,20 @@ TEST(ResultWriter, ModelWithoutConstraintsAndDrawSequences) {
     EXPECT_EQ(points.at({1, 3, c}), static_cast<float>(s.block(run.model.joints[eye].translation_block).pos(c)));
     EXPECT_EQ(points.at({1, 4, c}), static_cast<float>(s.joint_position(eye)(c)));
   }
-  expect_xdmf_matches(writer.xdmf_path(), f.id, {0.0, 0.1});
+  // The joints' frames, for glyphs in ParaView: the columns of the joint's rotation.
+  const Mat3 frame = s.joint_frame_of(eye).second;
+  for (int axis = 0; axis < 3; ++axis) {
+    const auto a = read<double>(f.id, std::string("/viz/joint_axis_") + "xyz"[axis]);
+    ASSERT_EQ(a.dims, (std::vector<hsize_t>{2, run.model.joints.size(), 3}));
+    for (hsize_t c = 0; c < 3; ++c)
+      EXPECT_EQ(a.at({1, static_cast<hsize_t>(eye), c}), static_cast<float>(frame(static_cast<int>(c), axis)));
+  }
+  EXPECT_EQ(read<int>(f.id, "/viz/joint_vertices").v.size(), run.model.joints.size());
+  EXPECT_FALSE(exists(f.id, "/viz/constraint_vertices"));
+  expect_xdmf_matches(writer.xdmf_path(), f.id, {0.0, 0.1}, true, false);
   const auto csv = read_csv(writer.csv_path());
   ASSERT_EQ(csv.size(), 3u);
-  EXPECT_EQ(csv[0], std::vector<std::string>{"time"});
+  EXPECT_EQ(csv[0], std::vector<std::string>{"time [s]"});
 }
 
 TEST(ResultWriter, SuperTrussIsDrawnMemberByMemberWithItsMemberForces) {
@@ -618,7 +664,7 @@ bodies:
       largest = std::max(largest, forces[m]);
     }
   EXPECT_GT(largest - smallest, 1e3);  // the members really differ, so a mix-up would show
-  expect_xdmf_matches(writer.xdmf_path(), f.id, {0.0, 0.1});
+  expect_xdmf_matches(writer.xdmf_path(), f.id, {0.0, 0.1}, true, false);
 }
 
 TEST(ResultWriter, ANewRunTruncatesTheFilesOfTheLast) {
