@@ -6,14 +6,18 @@
 Writes into DIR, named after the results file:
     <name>_load.png     position and velocity of the load's hook (joint load.1) over time, like
                         the thesis's Figures 8-10..8-13
-    <name>_ropes.png    forces in the ropes and strut ties, and the drives (rest lengths, slewing angle)
+    <name>_path.png     the load's path seen from above (x-y), coloured by time, beside the path
+                        of the point it hangs from (the hoisting rope's upper end at the boom head)
+    <name>_ropes.png    the force in each rope and strut tie, one panel each with its own range
+                        (several carry nearly the same force and would hide each other on one
+                        axis), and each drive on its own axis in its unit: rope rest lengths in
+                        m, the slewing angle in degrees
     <name>_summary.md   the state at the start (the static equilibrium) and at the end: rope rest
                         lengths and forces, boom angle, load position; the run's extremes
     <name>_summary.csv  the same numbers, one quantity per row
 Needs h5py and matplotlib (Debian's python3-h5py, python3-matplotlib).
 """
 import argparse
-import math
 import pathlib
 import sys
 
@@ -66,7 +70,13 @@ class Run:
         return forces.mean(axis=1), forces.min(axis=1)
 
     def drive(self, name):
-        return self.drives[:, self.drive_names.index(name)] if name in self.drive_names else None
+        """A drive's values over time in the unit it is shown in, with what it is and that unit:
+        (quantity, unit, values); the slewing drive is an angle (rad, shown in degrees), the
+        others drive rope rest lengths (m)."""
+        y = self.drives[:, self.drive_names.index(name)]
+        if name == "slewing":
+            return "slewing angle", "deg", np.degrees(y)
+        return f"{name} rope rest length", "m", y
 
     def boom_angle(self):
         """Angle of the main boom (foot hinge to head) above the horizontal, degrees."""
@@ -95,29 +105,61 @@ def plot_load(run, out, title):
     print(f"wrote {path}")
 
 
-def plot_ropes(run, out, title):
-    fig, (ax, bx) = plt.subplots(1, 2, figsize=(13, 4.2))
-    for name in ROPES:
-        f = run.body_force(name)
-        if f is not None:
-            ax.plot(run.time, f[0] / 1e6, label=name.replace("_", " "))
-    ax.set_xlabel("time (s)")
-    ax.set_ylabel("axial force (MN)")
-    ax.set_title("rope and tie forces (mean over each body's elements)", fontsize=9)
+def plot_path(run, out, title):
+    """The load's path seen from above, coloured by time, and the path of the point it hangs from
+    (the hoisting rope's upper end): their distance is the load's swing."""
+    p, _ = run.joint("load.1")
+    fig, ax = plt.subplots(figsize=(7, 6.2), layout="constrained")
+    if "hoisting_rope.1" in run.joint_names:
+        top, _ = run.joint("hoisting_rope.1")
+        ax.plot(top[:, 0], top[:, 1], color="0.55", ls="--", lw=1,
+                label="hoisting rope's upper end (boom head)")
+    ax.plot(p[:, 0], p[:, 1], color="0.8", lw=0.8, zorder=1)
+    dots = ax.scatter(p[:, 0], p[:, 1], c=run.time, cmap="viridis", s=6, zorder=2, label="load (load.1)")
+    ax.plot(p[0, 0], p[0, 1], "o", mfc="none", mec="black", ms=10, label=f"start, t = {run.time[0]:g} s")
+    ax.plot(p[-1, 0], p[-1, 1], "s", mfc="none", mec="black", ms=10, label=f"end, t = {run.time[-1]:g} s")
+    fig.colorbar(dots, ax=ax, label="time (s)", shrink=0.8)
+    # Same scale on both axes, so the path keeps its shape; the limits grow to fill the panel.
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.ticklabel_format(useOffset=False)
+    ax.set_xlabel("x (m)")
+    ax.set_ylabel("y (m)")
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=8)
-    for name in run.drive_names:
-        y = run.drive(name)
-        if name == "slewing":
-            bx.plot(run.time, np.degrees(y), label="slewing angle (deg)")
-        else:
-            bx.plot(run.time, y, label=f"{name} rope rest length (m)")
-    bx.set_xlabel("time (s)")
-    bx.set_title("drives (Table 7-3: u1 slewing, u2 luffing, u3 hoisting)", fontsize=9)
-    bx.grid(alpha=0.3)
-    bx.legend(fontsize=8)
+    ax.legend(fontsize=8, loc="best")
+    ax.set_title(f"{title}: the load's path seen from above", fontsize=10)
+    path = out / f"{run.name}_path.png"
+    fig.savefig(path, dpi=DPI)
+    plt.close(fig)
+    print(f"wrote {path}")
+
+
+def plot_ropes(run, out, title):
+    """Rope and tie forces on the left, drives on the right, one panel each with its own y range."""
+    ropes = [(name, run.body_force(name)) for name in ROPES if run.body_force(name) is not None]
+    rows = max(len(ropes), len(run.drive_names), 1)
+    fig = plt.figure(figsize=(13, 1.0 + 1.5 * rows), layout="constrained")
+    left, right = fig.subfigures(1, 2)
+    colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    if ropes:
+        left.suptitle("rope and tie forces (mean over each body's elements)", fontsize=10)
+        axes = left.subplots(len(ropes), 1, sharex=True, squeeze=False)[:, 0]
+        for k, ((name, force), ax) in enumerate(zip(ropes, axes)):
+            ax.plot(run.time, force[0] / 1e6, color=colours[k % len(colours)])
+            ax.set_title(name.replace("_", " "), fontsize=9, loc="left")
+            ax.set_ylabel("force (MN)")
+            ax.grid(alpha=0.3)
+        axes[-1].set_xlabel("time (s)")
+    if run.drive_names:
+        right.suptitle("drives (Table 7-3: u1 slewing, u2 luffing, u3 hoisting)", fontsize=10)
+        axes = right.subplots(len(run.drive_names), 1, sharex=True, squeeze=False)[:, 0]
+        for k, (name, ax) in enumerate(zip(run.drive_names, axes)):
+            quantity, unit, y = run.drive(name)
+            ax.plot(run.time, y, color=colours[k % len(colours)])
+            ax.set_title(quantity, fontsize=9, loc="left")
+            ax.set_ylabel(f"({unit})")
+            ax.grid(alpha=0.3)
+        axes[-1].set_xlabel("time (s)")
     fig.suptitle(title)
-    fig.tight_layout()
     path = out / f"{run.name}_ropes.png"
     fig.savefig(path, dpi=DPI)
     plt.close(fig)
@@ -129,11 +171,8 @@ def summary(run, out, title):
     angle = run.boom_angle()
     rows = []  # (quantity, start, end, unit)
     for name in run.drive_names:
-        y = run.drive(name)
-        if name == "slewing":
-            rows.append(("slewing angle", math.degrees(y[0]), math.degrees(y[-1]), "deg"))
-        else:
-            rows.append((f"{name} rope rest length", y[0], y[-1], "m"))
+        quantity, unit, y = run.drive(name)
+        rows.append((quantity, y[0], y[-1], unit))
     for name in ROPES:
         f = run.body_force(name)
         if f is not None:
@@ -179,6 +218,7 @@ def main():
         sys.exit(f"error: {args.h5} holds no output step")
     title = args.title or run.title
     plot_load(run, out, title)
+    plot_path(run, out, title)
     plot_ropes(run, out, title)
     summary(run, out, title)
 

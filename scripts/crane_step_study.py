@@ -82,9 +82,12 @@ def load(h5):
         ropes = [i for i, x in enumerate(types) if x == "rope"]
         axial = f["elements/axial_force"][:]
         members = f["viz/axial_force"][:]
-    with open(h5.replace(".h5", "_probes.csv")) as f:
-        rows = list(csv.DictReader(f))
-    load_path = np.array([[float(r["load.1.x"]), float(r["load.1.y"]), float(r["load.1.z"])] for r in rows])
+    with open(h5.replace(".h5", "_probes.csv"), newline="") as f:
+        rows = list(csv.reader(f))
+    # Header entries with or without their unit: "load.1.x [m]" or "load.1.x".
+    names = [re.sub(r"\s*\[[^\]]*\]$", "", n) for n in rows[0]]
+    cols = [names.index(f"load.1.{c}") for c in "xyz"]
+    load_path = np.array([[float(r[i]) for i in cols] for r in rows[1:]])
     return t, load_path, axial[:, ropes], members
 
 

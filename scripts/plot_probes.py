@@ -5,14 +5,41 @@
         --output docs/images/double_pendulum_probes.png
 
 One row of panels per probe joint: position components on the left, velocities on the right.
+Columns are found by name, with or without a unit in the header ("load.1.x [m]" or "load.1.x"):
+the units come from the header where it has them, otherwise they are the format's (s, m, m/s;
+docs/output-format.md).
 """
 import argparse
 import csv
+import re
 
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+
+UNIT = re.compile(r"^(.*?)\s*\[([^\]]*)\]$")  # "load.1.vx [m/s]": name, unit
+
+
+def format_unit(name):
+    """The unit of a column by the format, for a header without units: time in s, the joint's
+    position .x .y .z in m, its velocity .vx .vy .vz in m/s."""
+    if name == "time":
+        return "s"
+    return "m/s" if name.rsplit(".", 1)[-1].startswith("v") else "m"
+
+
+def read(path):
+    """The probe table as {name: values} and {name: unit}, names without their unit."""
+    with open(path, newline="") as f:
+        rows = list(csv.reader(f))
+    cols, units = {}, {}
+    for i, column in enumerate(rows[0]):
+        m = UNIT.match(column)
+        name = m.group(1) if m else column
+        units[name] = m.group(2) if m else format_unit(name)
+        cols[name] = [float(r[i]) for r in rows[1:]]
+    return cols, units
 
 
 def main():
@@ -21,24 +48,21 @@ def main():
     p.add_argument("--output", required=True)
     p.add_argument("--title", default=None)
     a = p.parse_args()
-    with open(a.csv, newline="") as f:
-        rows = list(csv.reader(f))
-    header, data = rows[0], [[float(x) for x in r] for r in rows[1:]]
-    cols = {name: [r[i] for r in data] for i, name in enumerate(header)}
+    cols, units = read(a.csv)
     t = cols["time"]
-    joints = list(dict.fromkeys(name.rsplit(".", 1)[0] for name in header[1:]))
+    joints = list(dict.fromkeys(name.rsplit(".", 1)[0] for name in cols if name != "time"))
     fig, axes = plt.subplots(len(joints), 2, figsize=(11, 3.2 * len(joints)), squeeze=False, sharex=True)
     for row, joint in enumerate(joints):
         for c in "xyz":
             axes[row][0].plot(t, cols[f"{joint}.{c}"], label=c)
             axes[row][1].plot(t, cols[f"{joint}.v{c}"], label="v" + c)
-        axes[row][0].set_ylabel(f"{joint} position [m]")
-        axes[row][1].set_ylabel(f"{joint} velocity [m/s]")
+        axes[row][0].set_ylabel(f"{joint} position [{units[joint + '.x']}]")
+        axes[row][1].set_ylabel(f"{joint} velocity [{units[joint + '.vx']}]")
         for ax in axes[row]:
             ax.grid(True, alpha=0.3)
             ax.legend(loc="upper right", fontsize=8)
     for ax in axes[-1]:
-        ax.set_xlabel("time [s]")
+        ax.set_xlabel(f"time [{units['time']}]")
     fig.suptitle(a.title or a.csv)
     fig.tight_layout()
     fig.savefig(a.output, dpi=110)
