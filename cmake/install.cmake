@@ -9,13 +9,13 @@ target_link_libraries(latticedyn_library INTERFACE latticedyn_driver)
 set_target_properties(latticedyn_library PROPERTIES EXPORT_NAME latticedyn)
 add_library(latticedyn::latticedyn ALIAS latticedyn_library)
 
-set(_layers latticedyn_core latticedyn_elements latticedyn_assembly latticedyn_timestepping latticedyn_io
+set(_layers latticedyn_core latticedyn_control latticedyn_elements latticedyn_assembly latticedyn_timestepping latticedyn_io
             latticedyn_driver)
 install(TARGETS ${_layers} latticedyn_library latticedyn_options latticedyn_metis
         EXPORT latticedynTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
 install(TARGETS latticedyn RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
-foreach(layer core elements assembly timestepping io drivers)
+foreach(layer core control elements assembly timestepping io drivers)
   install(DIRECTORY ${PROJECT_SOURCE_DIR}/${layer}/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/latticedyn/${layer}
           FILES_MATCHING PATTERN "*.hpp")
 endforeach()

@@ -2,7 +2,7 @@
 // verification run -> report files (CSV, YAML drives, markdown; PNGs by scripts/control_report.py).
 #include "drivers/control_pipeline.hpp"
 
-#include "core/control_table.hpp"
+#include "control/control_table.hpp"
 #include "core/drive.hpp"
 #include "drivers/batch_runner.hpp"
 #include "drivers/case_solver.hpp"

@@ -2,9 +2,9 @@
 // end point, the surfaces, the QR problem of Table 8-2, the control table and the verification run.
 #pragma once
 
-#include "core/surface_fit.hpp"
+#include "control/surface_fit.hpp"
 #include "io/batch_reader.hpp"
-#include "timestepping/quadratic_regulator.hpp"
+#include "control/quadratic_regulator.hpp"
 
 #include <array>
 #include <string>

@@ -1,5 +1,5 @@
 // Thin plate spline surfaces of two variables.
-#include "core/thin_plate_spline.hpp"
+#include "control/thin_plate_spline.hpp"
 
 #include <Eigen/Dense>
 

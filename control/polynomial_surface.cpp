@@ -1,5 +1,5 @@
 // Least-squares polynomial surfaces of two variables.
-#include "core/polynomial_surface.hpp"
+#include "control/polynomial_surface.hpp"
 
 #include <Eigen/Dense>
 

@@ -1,7 +1,7 @@
 // Quadratic regulator (thesis 6.3) by TAO against closed forms: the Riccati LQR without bounds,
 // the optimality (KKT) conditions with active control bounds, a saturated speed, the receding
 // horizon (6-2) against the full horizon (6-1), and the crane case of thesis Table 8-2.
-#include "timestepping/quadratic_regulator.hpp"
+#include "control/quadratic_regulator.hpp"
 
 #include <gtest/gtest.h>
 #include <petscsys.h>

@@ -1,7 +1,7 @@
 // Polynomial surfaces of two variables: a known polynomial is reproduced exactly on data in the
 // ranges of the crane's map (rope lengths near 50 m, boom angles in degrees), noise shows in the
 // residuals, the gradient matches finite differences, bad input is refused.
-#include "core/polynomial_surface.hpp"
+#include "control/polynomial_surface.hpp"
 
 #include <gtest/gtest.h>
 

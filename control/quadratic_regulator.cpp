@@ -1,6 +1,6 @@
 // The quadratic regulator of thesis 6.3 as one sparse QP over the whole horizon for PETSc TAO
 // (eq. 6-1), the receding-horizon loop over it (eq. 6-2), and the Riccati LQR used as reference.
-#include "timestepping/quadratic_regulator.hpp"
+#include "control/quadratic_regulator.hpp"
 
 #include <petsctao.h>
 

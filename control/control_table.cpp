@@ -1,5 +1,5 @@
 // Resampling with steady points.
-#include "core/control_table.hpp"
+#include "control/control_table.hpp"
 
 #include <algorithm>
 #include <stdexcept>

@@ -2,8 +2,8 @@
 // behind one interface so that the control pipeline and its report need not care which.
 #pragma once
 
-#include "core/polynomial_surface.hpp"
-#include "core/thin_plate_spline.hpp"
+#include "control/polynomial_surface.hpp"
+#include "control/thin_plate_spline.hpp"
 
 #include <span>
 #include <string>

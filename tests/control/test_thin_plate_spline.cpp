@@ -1,7 +1,7 @@
 // Thin plate spline surfaces: exact through the samples, exact for affine data everywhere (the
 // spline's polynomial part), close to a smooth function between grid samples, gradients against
 // finite differences, smoothing that filters noise, and clear errors for unusable samples.
-#include "core/thin_plate_spline.hpp"
+#include "control/thin_plate_spline.hpp"
 
 #include <gtest/gtest.h>
 

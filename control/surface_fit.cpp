@@ -1,5 +1,5 @@
 // The surface of either kind.
-#include "core/surface_fit.hpp"
+#include "control/surface_fit.hpp"
 
 #include <cstdio>
 

@@ -1,7 +1,7 @@
 // The control table of thesis 6.4: 20 resampled points plus 5 steady points at each end, equal
 // spacing, the trajectory's values at the resampled times, and a spline drive through it that
 // starts and ends at rest.
-#include "core/control_table.hpp"
+#include "control/control_table.hpp"
 #include "core/drive.hpp"
 
 #include <gtest/gtest.h>
