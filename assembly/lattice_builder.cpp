@@ -2,9 +2,6 @@
 // offsets of rigid connections, reference nodes with fixed constraints for rigid end sections.
 #include "assembly/lattice_builder.hpp"
 
-#include "elements/cubic_spline_beam.hpp"
-#include "elements/timoshenko_beam.hpp"
-
 #include <stdexcept>
 
 namespace latticedyn {
@@ -17,10 +14,7 @@ std::vector<std::shared_ptr<const Element>> lattice_member_elements(const TrussS
   out.reserve(g.members.size());
   for (const TrussMember& m : g.members) {
     const BeamProperties beam{spec.material, g.section(spec, m.kind), m.length / opt.elements_per_member, 0.0};
-    if (opt.member == MemberElement::timoshenko_beam)
-      out.push_back(std::make_shared<TimoshenkoBeam>(beam));
-    else
-      out.push_back(std::make_shared<CubicSplineBeam>(CubicSplineBeamProperties{beam, 5}));
+    out.push_back(make_beam_element(opt.member, beam));
   }
   return out;
 }
@@ -56,31 +50,19 @@ FullLattice add_full_lattice(ModelBuilder& builder, const std::string& name, con
     const std::shared_ptr<const Element>& element = member_elements->at(static_cast<std::size_t>(out.members));
     const Mat3 member_frame = Q * m.frame0;
     const Vec3 a = place(g.nodes[m.a].position), b = place(g.nodes[m.b].position);
-    // The member's own nodes: its two lattice nodes and ne - 1 between them.
-    std::vector<int> mt = {t[m.a]}, mr = {r[m.a]};
-    std::vector<Mat3> offset = {g.nodes[m.a].frame.transpose() * m.frame0};
+    // The member's own nodes: its two lattice nodes (frame offsets: the rigid connection) and
+    // ne - 1 between them.
+    std::vector<MemberNode> nodes{{t[m.a], r[m.a], g.member_offset(m, m.a)}};
     for (int k = 1; k < ne; ++k) {
       const std::string label = name + ".member" + std::to_string(out.members + 1) + "." + std::to_string(k);
-      mt.push_back(builder.add_block(DofBlock::translation(a + (b - a) * (double(k) / ne), Vec3::Zero(), label)));
-      mr.push_back(builder.add_block(DofBlock::rotation(member_frame, Vec3::Zero(), label)));
-      offset.push_back(Mat3::Identity());
+      nodes.push_back({builder.add_block(DofBlock::translation(member_point(a, b, k, ne), Vec3::Zero(), label)),
+                       builder.add_block(DofBlock::rotation(member_frame, Vec3::Zero(), label))});
     }
-    mt.push_back(t[m.b]);
-    mr.push_back(r[m.b]);
-    offset.push_back(g.nodes[m.b].frame.transpose() * m.frame0);
+    nodes.push_back({t[m.b], r[m.b], g.member_offset(m, m.b)});
     // Cubic spline members carry the axis stretch at each of their own nodes.
-    std::vector<int> ms;
     if (opt.member == MemberElement::cubic_spline_beam)
-      for (int k = 0; k <= ne; ++k) ms.push_back(builder.add_block(DofBlock::scalar(1.0, 0.0, name + ".stretch")));
-    for (int k = 0; k < ne; ++k) {
-      if (opt.member == MemberElement::timoshenko_beam)
-        builder.add_element(out.body, element, {{mt[k], Mat3::Identity()}, {mr[k], offset[k]}, {mt[k + 1], Mat3::Identity()}, {mr[k + 1], offset[k + 1]}});
-      else
-        builder.add_element(out.body, element,
-                            {{mt[k], Mat3::Identity()}, {mr[k], offset[k]}, {ms[k], Mat3::Identity()},
-                             {mt[k + 1], Mat3::Identity()}, {mr[k + 1], offset[k + 1]}, {ms[k + 1], Mat3::Identity()}});
-      ++out.elements;
-    }
+      for (MemberNode& n : nodes) n.stretch = builder.add_block(DofBlock::scalar(1.0, 0.0, name + ".stretch"));
+    out.elements += add_member_elements(builder, out.body, opt.member, element, nodes);
     ++out.members;
   }
 

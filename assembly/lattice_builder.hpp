@@ -3,6 +3,7 @@
 // sections tied to a reference node per end so that it connects where a super truss would.
 #pragma once
 
+#include "assembly/member_builder.hpp"
 #include "assembly/model_builder.hpp"
 #include "elements/truss_section.hpp"
 
@@ -11,8 +12,6 @@
 #include <vector>
 
 namespace latticedyn {
-
-enum class MemberElement { timoshenko_beam, cubic_spline_beam };
 
 struct FullLatticeOptions {
   MemberElement member = MemberElement::timoshenko_beam;

@@ -65,8 +65,8 @@ SuperTrussElement::SuperTrussElement(const TrussSectionSpec& spec, const TrussGe
     Member m;
     m.a = tm.a;
     m.b = tm.b;
-    m.offset_a = g.nodes[tm.a].frame.transpose() * tm.frame0;
-    m.offset_b = g.nodes[tm.b].frame.transpose() * tm.frame0;
+    m.offset_a = g.member_offset(tm, tm.a);
+    m.offset_b = g.member_offset(tm, tm.b);
     m.beam = std::make_shared<TimoshenkoBeam>(BeamProperties{spec.material, section, tm.length, 0.0});
     const double rho = section.effective_density(spec.material);
     const double mass = rho * section.area * tm.length;

@@ -83,6 +83,9 @@ struct TrussGeometry {
   std::vector<std::vector<int>> main_beam_stations;
   int count(TrussMemberKind k) const;
   const SectionProperties& section(const TrussSectionSpec& spec, TrussMemberKind k) const;
+  /// The rigid connection of member `m` at its end node `node` (m.a or m.b): the constant rotation
+  /// from that node's frame to the member's, the same in the full lattice and the super truss.
+  Mat3 member_offset(const TrussMember& m, int node) const { return nodes[node].frame.transpose() * m.frame0; }
 };
 
 /// Generates the lattice of `spec` (validated first).

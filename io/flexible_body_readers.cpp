@@ -2,9 +2,8 @@
 // slope blocks), its n elements, and the joints at its ends and at named nodes.
 #include "io/flexible_body_readers.hpp"
 
+#include "assembly/member_builder.hpp"
 #include "elements/rope.hpp"
-#include "elements/cubic_spline_beam.hpp"
-#include "elements/timoshenko_beam.hpp"
 #include "io/rope_shape.hpp"
 
 #include <cmath>
@@ -18,7 +17,7 @@ struct MemberGeometry {
   Vec3 start, end;
   int elements = 1;
   double length() const { return (end - start).norm(); }
-  Vec3 node(int k) const { return start + (end - start) * (double(k) / elements); }
+  Vec3 node(int k) const { return member_point(start, end, k, elements); }
 };
 
 MemberGeometry read_geometry(const InputNode& n) {
@@ -101,18 +100,15 @@ void read_beam(ReaderContext& ctx, const InputNode& n, const std::string& name, 
   beam.section = ctx.section(n["section"]);
   beam.length = g.length() / g.elements;
   beam.shear_coefficient = n.get_positive("shear_coefficient", 0.0);
+  const MemberElement kind = spline ? MemberElement::cubic_spline_beam : MemberElement::timoshenko_beam;
+  int gauss_points = 5;
+  if (auto k = n.get("gauss_points")) {
+    gauss_points = k->as_int();
+    if (gauss_points < 1 || gauss_points > 64) k->fail("expected 1 to 64 Gauss points");
+  }
   std::shared_ptr<const Element> element;
   try {
-    if (spline) {
-      CubicSplineBeamProperties p{beam, 5};
-      if (auto k = n.get("gauss_points")) {
-        p.gauss_points = k->as_int();
-        if (p.gauss_points < 1 || p.gauss_points > 64) k->fail("expected 1 to 64 Gauss points");
-      }
-      element = std::make_shared<CubicSplineBeam>(p);
-    } else {
-      element = std::make_shared<TimoshenkoBeam>(beam);
-    }
+    element = make_beam_element(kind, beam, gauss_points);
   } catch (const std::invalid_argument& e) {
     n.fail(e.what());
   }
@@ -120,20 +116,19 @@ void read_beam(ReaderContext& ctx, const InputNode& n, const std::string& name, 
   const InitialRates rates = read_rates(n);
   const int body = ctx.builder.add_body(name, type);
   ctx.bodies[name] = BodyRecord{body, type, {}};
-  std::vector<int> t, r, s;
+  std::vector<MemberNode> nodes;
+  std::vector<int> t, r;
   for (int k = 0; k <= g.elements; ++k) {
     const std::string label = name + ".node" + std::to_string(k);
     const Vec3 v = rates.velocity + rates.omega.cross(g.node(k) - g.start);
-    t.push_back(ctx.builder.add_block(DofBlock::translation(g.node(k), v, label)));
-    r.push_back(ctx.builder.add_block(DofBlock::rotation(R0, R0.transpose() * rates.omega, label)));
-    if (spline) s.push_back(ctx.builder.add_block(DofBlock::scalar(1.0, 0.0, label)));
+    MemberNode& node = nodes.emplace_back();
+    node.translation = ctx.builder.add_block(DofBlock::translation(g.node(k), v, label));
+    node.orientation = ctx.builder.add_block(DofBlock::rotation(R0, R0.transpose() * rates.omega, label));
+    if (spline) node.stretch = ctx.builder.add_block(DofBlock::scalar(1.0, 0.0, label));
+    t.push_back(node.translation);
+    r.push_back(node.orientation);
   }
-  for (int e = 0; e < g.elements; ++e) {
-    if (spline)
-      ctx.builder.add_element(body, element, {{t[e]}, {r[e]}, {s[e]}, {t[e + 1]}, {r[e + 1]}, {s[e + 1]}});
-    else
-      ctx.builder.add_element(body, element, {{t[e]}, {r[e]}, {t[e + 1]}, {r[e + 1]}});
-  }
+  add_member_elements(ctx.builder, body, kind, element, nodes);
   add_member_joints(ctx, n, name, g, t, r, R0.transpose());
 }
 
@@ -191,14 +186,17 @@ void read_rope(ReaderContext& ctx, const InputNode& n, const std::string& name) 
   }
   const int body = ctx.builder.add_body(name, "rope");
   ctx.bodies[name] = BodyRecord{body, "rope", {}};
-  std::vector<int> t, v;
+  std::vector<MemberNode> nodes;
+  std::vector<int> t;
   for (int k = 0; k <= g.elements; ++k) {
-    const double xi = double(k) / g.elements;
     const std::string label = name + ".node" + std::to_string(k);
-    t.push_back(ctx.builder.add_block(DofBlock::translation(shape.positions[k], v1 + (v2 - v1) * xi, label)));
-    v.push_back(ctx.builder.add_block(DofBlock::vector(shape.slopes[k], (v2 - v1) / L0, label + ".slope")));
+    MemberNode& node = nodes.emplace_back();
+    node.translation = ctx.builder.add_block(
+        DofBlock::translation(shape.positions[k], member_point(v1, v2, k, g.elements), label));
+    node.orientation = ctx.builder.add_block(DofBlock::vector(shape.slopes[k], (v2 - v1) / L0, label + ".slope"));
+    t.push_back(node.translation);
   }
-  for (int e = 0; e < g.elements; ++e) ctx.builder.add_element(body, element, {{t[e]}, {v[e]}, {t[e + 1]}, {v[e + 1]}});
+  add_member_elements(ctx.builder, body, MemberElement::rope, element, nodes);
   add_member_joints(ctx, n, name, g, t, {}, Mat3::Identity());
 }
 

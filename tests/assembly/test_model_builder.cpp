@@ -1,6 +1,7 @@
 // Node sharing (the thesis's public computing nodes, 7.4.1): merged blocks, composed frame
 // offsets, fixing to the ground, and clear errors for connections that cannot be shared.
 #include "assembly/dof_map.hpp"
+#include "assembly/member_builder.hpp"
 #include "assembly/model_builder.hpp"
 
 #include "sample_models.hpp"
@@ -135,6 +136,43 @@ TEST(ModelBuilder, FindsBodiesAndJointsByNameAndRefusesDuplicates) {
   EXPECT_EQ(by_hand.find_joint("j2"), 2);
   by_hand.joints.push_back(Joint{"j3"});
   EXPECT_EQ(by_hand.find_joint("j3"), 3);
+}
+
+// A member's elements bind consecutive nodes in their type's slot order (the one place that knows
+// it), with the node's frame offset on its rotation slot; an element of another kind is refused.
+TEST(MemberBuilder, BindsConsecutiveNodesInTheElementsSlotOrder) {
+  ModelBuilder b;
+  const int body = b.add_body("beam", "timoshenko_beam");
+  const BeamProperties beam{Material{7800, 2.1e11, 0.3}, round_tube_section(0.05, 0.04), 1.0, 0.0};
+  const Mat3 offset = rotation_matrix<double>(Vec3(0, 0, 0.3));
+  std::vector<MemberNode> nodes;
+  for (int k = 0; k < 3; ++k) {
+    const std::string label = "beam.node" + std::to_string(k);
+    nodes.push_back({b.add_block(DofBlock::translation(member_point(Vec3::Zero(), Vec3(2, 0, 0), k, 2), Vec3::Zero(), label)),
+                     b.add_block(DofBlock::rotation(Mat3::Identity(), Vec3::Zero(), label)), k == 0 ? offset : Mat3::Identity()});
+  }
+  EXPECT_EQ(add_member_elements(b, body, MemberElement::timoshenko_beam,
+                                make_beam_element(MemberElement::timoshenko_beam, beam), nodes),
+            2);
+  EXPECT_THROW(add_member_elements(b, body, MemberElement::rope,
+                                   make_beam_element(MemberElement::timoshenko_beam, beam), nodes),
+               std::invalid_argument);
+  EXPECT_THROW(add_member_elements(b, body, MemberElement::cubic_spline_beam,
+                                   make_beam_element(MemberElement::cubic_spline_beam, beam), nodes),
+               std::invalid_argument);  // no stretch blocks
+  EXPECT_THROW(make_beam_element(MemberElement::rope, beam), std::invalid_argument);
+  const Model m = b.build();
+  ASSERT_EQ(m.elements.size(), 2u);
+  for (int e = 0; e < 2; ++e) {
+    const auto& s = m.elements[e].slots;
+    ASSERT_EQ(s.size(), 4u);
+    EXPECT_EQ(s[0].block, nodes[e].translation);
+    EXPECT_EQ(s[1].block, nodes[e].orientation);
+    EXPECT_EQ(s[2].block, nodes[e + 1].translation);
+    EXPECT_EQ(s[3].block, nodes[e + 1].orientation);
+  }
+  EXPECT_TRUE(m.elements[0].slots[1].offset.isApprox(offset));
+  EXPECT_TRUE(m.blocks[nodes[1].translation].position0.isApprox(Vec3(1, 0, 0)));
 }
 
 }  // namespace
