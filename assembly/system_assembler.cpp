@@ -1,13 +1,10 @@
 // Global residual and Jacobian assembly. Each rank gathers the coordinates its elements, loads and
-// constraints read (one VecScatter), evaluates them in the blocks' velocity variables, maps the
-// results to the stored coordinates through the rotation chain rule, and adds them into the
-// global vector (reverse scatter) and matrix (MatSetValues, ADD_VALUES).
+// constraints read (one VecScatter), sets the blocks' states and chain maps, lets each term
+// (ElementTerm, LoadTerm, ConstraintTerm) add its part, maps rotation rows to the stored
+// coordinates, and adds the result into the global vector (reverse scatter) and matrix.
 #include "assembly/system_assembler.hpp"
 
-#include "assembly/element_loop.hpp"
 #include "assembly/log_events.hpp"
-#include "assembly/matrix_fill.hpp"
-#include "assembly/nodal_load.hpp"
 #include "core/rotation.hpp"
 
 #include <petscvec.h>
@@ -17,35 +14,12 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <mutex>
-#include <new>
 #include <string>
 #include <stdexcept>
-#include <typeinfo>
 
 namespace latticedyn {
 
 namespace {
-
-// The exception being handled, for the failure message that ends a run if cutting the step does
-// not help: an element outside its domain says so; anything else names where it came from.
-std::string describe_current_exception(const std::string& where) {
-  try {
-    throw;
-  } catch (const std::domain_error& e) {
-    return std::string("an element was evaluated outside its domain: ") + e.what();
-  } catch (const std::bad_alloc&) {
-    return "evaluating " + where + " ran out of memory";
-  } catch (const std::exception& e) {
-    return "evaluating " + where + " failed: " + e.what();
-  } catch (...) {
-    return "evaluating " + where + " failed with an exception that is not a std::exception";
-  }
-}
-
-std::string describe_current_exception(const Element& e) {
-  return describe_current_exception("a " + std::string(e.type_name()) + " element");
-}
 
 using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
@@ -60,51 +34,24 @@ SystemAssembler::SystemAssembler(const Model& model, MPI_Comm comm)
         int s = 1;
         MPI_Comm_size(comm, &s);
         return s;
-      }()) {
+      }()),
+      elements_(model_, dofs_, comm_),
+      loads_(model_, dofs_),
+      constraints_(model_, dofs_) {
   const int nb = static_cast<int>(model_.blocks.size());
   const int nc = static_cast<int>(model_.constraints.size());
-  local_block_offset_.assign(nb, -1);
-  local_multiplier_offset_.assign(nc, -1);
+  local_.block_offset.assign(nb, -1);
+  local_.multiplier_offset.assign(nc, -1);
   std::vector<PetscInt> global_index;
   for (int b : dofs_.needed_blocks()) {
-    local_block_offset_[b] = static_cast<int>(global_index.size());
+    local_.block_offset[b] = static_cast<int>(global_index.size());
     for (int i = 0; i < model_.blocks[b].size(); ++i) global_index.push_back(dofs_.block_dof(b) + i);
   }
   for (int c : dofs_.local_constraints()) {
-    local_multiplier_offset_[c] = static_cast<int>(global_index.size());
+    local_.multiplier_offset[c] = static_cast<int>(global_index.size());
     for (int i = 0; i < model_.constraints[c].rows(); ++i) global_index.push_back(dofs_.multiplier_dof(c) + i);
   }
   local_size_ = static_cast<int>(global_index.size());
-  threads_ = element_threads(comm_);
-  const std::vector<int>& elements = dofs_.local_elements();
-  buffer_of_.assign(elements.size(), -1);
-  for (std::size_t i = 0; i < elements.size(); ++i)
-    if (threads_ > 1 && model_.elements[elements[i]].element->expensive()) {
-      buffer_of_[i] = static_cast<int>(threaded_.size());
-      threaded_.push_back(static_cast<int>(i));
-    }
-  if (threaded_.size() < 2) {  // nothing to share out
-    threaded_.clear();
-    buffer_of_.assign(elements.size(), -1);
-  }
-  element_residuals_.resize(threaded_.size());
-  element_tangents_.resize(threaded_.size());
-  run_first_.assign(elements.size(), -1);
-  run_length_.assign(elements.size(), 0);
-  for (std::size_t i = 0; i < elements.size();) {
-    const Element& e = *model_.elements[elements[i]].element;
-    const std::size_t width = static_cast<std::size_t>(std::clamp(e.batch_size(), 1, kMaxElementBatch));
-    std::size_t n = 1;
-    while (n < width && i + n < elements.size() &&
-           typeid(*model_.elements[elements[i + n]].element) == typeid(e) &&
-           (buffer_of_[i + n] < 0) == (buffer_of_[i] < 0))
-      ++n;
-    for (std::size_t k = 0; k < n; ++k) run_first_[i + k] = static_cast<int>(i);
-    run_length_[i] = static_cast<int>(n);
-    if (buffer_of_[i] >= 0) threaded_runs_.push_back(static_cast<int>(i));  // buffers i..i+n-1 are consecutive
-    i += n;
-  }
-
   PetscCallAbort(comm_, VecCreateMPI(comm_, dofs_.owned_size(), dofs_.global_size(), &global_template_));
   for (Vec* v : {&u_loc_, &v_loc_, &a_loc_, &uc_loc_, &r_loc_})
     PetscCallAbort(PETSC_COMM_SELF, VecCreateSeq(PETSC_COMM_SELF, local_size_, v));
@@ -114,15 +61,15 @@ SystemAssembler::SystemAssembler(const Model& model, MPI_Comm comm)
   PetscCallAbort(PETSC_COMM_SELF, ISDestroy(&from));
 
   // Fixed blocks never change: their state is set once.
-  state_.resize(nb);
-  state_c_.resize(nb);
-  chain_.resize(nb);
-  chain_c_.resize(nb);
+  local_.state.resize(nb);
+  local_.state_c.resize(nb);
+  local_.chain.resize(nb);
+  local_.chain_c.resize(nb);
   rows_T_.assign(nb, Mat3::Identity());
   phi_.assign(nb, Vec3::Zero());
   for (int b = 0; b < nb; ++b) {
-    block_kinematics(model_.blocks[b], nullptr, nullptr, nullptr, Parametrization::rotation_vector_rates, state_[b]);
-    state_c_[b] = state_[b];
+    block_kinematics(model_.blocks[b], nullptr, nullptr, nullptr, Parametrization::rotation_vector_rates, local_.state[b]);
+    local_.state_c[b] = local_.state[b];
   }
   constrained_.assign(nb, 0);
   for (int c : dofs_.local_constraints())
@@ -137,7 +84,7 @@ SystemAssembler::~SystemAssembler() {
 }
 
 void SystemAssembler::estimate_scales() {
-  // Mean diagonal mass and stiffness of the translational DoFs at the initial state (state_ holds
+  // Mean diagonal mass and stiffness of the translational DoFs at the initial state (local_.state holds
   // every block's initial state here), over all elements: the same numbers on every rank.
   double mass = 0.0, stiffness = 0.0, load2 = 0.0;
   int count = 0;
@@ -147,7 +94,7 @@ void SystemAssembler::estimate_scales() {
     const ElementEntry& entry = model_.elements[e];
     const auto kinds = entry.element->slots();
     std::vector<SlotState<double>> s;
-    gather_slots(entry, state_, s);
+    gather_slots(entry, local_.state, s);
     entry.element->tangents(s, ctx, t);
     int o = 0;
     for (std::size_t k = 0; k < kinds.size(); ++k) {
@@ -189,12 +136,6 @@ PetscErrorCode SystemAssembler::create_vector(Vec* v) const {
   PetscFunctionBeginUser;
   PetscCall(VecDuplicate(global_template_, v));
   PetscFunctionReturn(0);
-}
-
-void SystemAssembler::record_evaluation_error(const std::string& what) {
-  static std::mutex guard;  // element evaluations may run on several threads
-  std::lock_guard<std::mutex> lock(guard);
-  if (evaluation_error_.empty()) evaluation_error_ = what;
 }
 
 bool SystemAssembler::uniform_blocks(int block_size) const {
@@ -292,20 +233,20 @@ PetscErrorCode SystemAssembler::compute_states(const EvaluationSettings& how, bo
   if (separate_uc_) PetscCall(VecGetArrayRead(uc_loc_, &uc));
   const bool rates = how.param == Parametrization::rotation_vector_rates;
   for (int b : dofs_.needed_blocks()) {
-    const int o = local_offset(b);
+    const int o = local_.offset(b);
     const DofBlock& blk = model_.blocks[b];
-    block_kinematics(blk, u + o, v ? v + o : nullptr, a ? a + o : nullptr, how.param, state_[b],
-                     with_chain ? &chain_[b] : nullptr, cq, cv, ca);
+    block_kinematics(blk, u + o, v ? v + o : nullptr, a ? a + o : nullptr, how.param, local_.state[b],
+                     with_chain ? &local_.chain[b] : nullptr, cq, cv, ca);
     if (blk.kind == SlotKind::rotation) {
       phi_[b] = Vec3(u[o], u[o + 1], u[o + 2]);
       rows_T_[b] = rates ? Mat3(tangent_operator(phi_[b]).transpose()) : Mat3::Identity();
     }
     if (!constrained_[b]) continue;  // the end-of-step state only enters constraint rows
     if (separate_uc_) {
-      block_kinematics(blk, uc + o, nullptr, nullptr, how.param, state_c_[b], with_chain ? &chain_c_[b] : nullptr, cq, cv, ca);
+      block_kinematics(blk, uc + o, nullptr, nullptr, how.param, local_.state_c[b], with_chain ? &local_.chain_c[b] : nullptr, cq, cv, ca);
     } else {
-      state_c_[b] = state_[b];
-      if (with_chain) chain_c_[b] = chain_[b];
+      local_.state_c[b] = local_.state[b];
+      if (with_chain) local_.chain_c[b] = local_.chain[b];
     }
   }
   PetscCall(VecRestoreArrayRead(u_loc_, &u));
@@ -326,106 +267,21 @@ PetscErrorCode SystemAssembler::residual(const EvaluationPoint& at, const Evalua
   PetscCall(VecZeroEntries(r_loc_));
   PetscCall(VecGetArray(r_loc_, &r));
 
-  const ElementContext ctx{how.load_scale * model_.gravity, at.t};
-  const std::vector<int>& elements = dofs_.local_elements();
   const LogEvents& events = log_events();
+  errors_.clear();
   PetscCall(PetscLogEventBegin(events.element_residual, 0, 0, 0, 0));
-  evaluation_error_.clear();
-  auto evaluate = [&](int first, VecX* out) {
-    const ElementRun run = gather_run(model_, elements, first, run_length_[first], state_);
-    try {
-      if (run.count == 1) {
-        out[0].resize(run.elements[0]->num_dofs());
-        run.elements[0]->residual(run.states[0], ctx, out[0]);
-      } else {
-        run.elements[0]->residual_batch(run.element_span(), run.state_span(), ctx, {out, run.size()});
-      }
-    } catch (...) {
-      // Outside an element's domain (a rope's rest length through zero), or any other failure of
-      // its evaluation: NaN marks the residual not finite, so the integrator cuts the step (a
-      // domain error) instead of an exception unwinding through PETSc.
-      record_evaluation_error(describe_current_exception(*run.elements[0]));
-      for (int k = 0; k < run.count; ++k) out[k].setConstant(run.elements[k]->num_dofs(), std::nan(""));
-    }
-  };
-  parallel_for_each(static_cast<int>(threaded_runs_.size()), threads_, [&](int k) {
-    evaluate(threaded_runs_[k], &element_residuals_[buffer_of_[threaded_runs_[k]]]);
-  });
-  thread_local std::array<VecX, kMaxElementBatch> inline_re;
-  for (std::size_t i = 0; i < elements.size(); ++i) {
-    const ElementEntry& entry = model_.elements[elements[i]];
-    const auto kinds = entry.element->slots();
-    if (buffer_of_[i] < 0 && run_first_[i] == static_cast<int>(i)) evaluate(static_cast<int>(i), inline_re.data());
-    const VecX& re = buffer_of_[i] < 0 ? inline_re[i - run_first_[i]] : element_residuals_[buffer_of_[i]];
-    int o = 0;
-    for (std::size_t k = 0; k < kinds.size(); ++k) {
-      const int n = slot_size(kinds[k]);
-      const int lo = local_offset(entry.slots[k].block);
-      if (lo >= 0) {
-        if (kinds[k] == SlotKind::rotation) {
-          const Vec3 rb = entry.slots[k].offset * re.segment<3>(o);
-          for (int i = 0; i < 3; ++i) r[lo + i] += rb(i);
-        } else {
-          for (int i = 0; i < n; ++i) r[lo + i] += re(o + i);
-        }
-      }
-      o += n;
-    }
-  }
+  elements_.add_residual(local_, ElementContext{how.load_scale * model_.gravity, at.t}, r, errors_);
   PetscCall(PetscLogEventEnd(events.element_residual, 0, 0, 0, 0));
 
-  PetscCall(PetscLogEventBegin(events.constraints, 0, 0, 0, 0));
-  auto state_of = [this](int b) -> const BlockState& { return state_[b]; };
-  auto state_c_of = [this](int b) -> const BlockState& { return state_c_[b]; };
   // Loads and constraints evaluated without an exception leaving (it would unwind through PETSc):
   // a failure there marks the residual not finite, as an element's does.
+  PetscCall(PetscLogEventBegin(events.constraints, 0, 0, 0, 0));
   bool failed = false;
   try {
-    for (int l : dofs_.local_loads()) {
-      const NodalLoad& load = model_.loads[l];
-      const double scale = how.load_scale * (load.drive >= 0 ? model_.drives[load.drive].evaluate(at.t).value : 1.0);
-      const LoadEval le = evaluate_load(model_, load, state_of, scale, false);
-      for (int k = 0; k < 2; ++k)
-        if (le.blocks[k] >= 0) {
-          const int lo = local_offset(le.blocks[k]);
-          for (int i = 0; i < 3; ++i) r[lo + i] -= le.f(3 * k + i);
-        }
-    }
-
-    for (int c : dofs_.local_constraints()) {
-      const Constraint& con = model_.constraints[c];
-      const int mo = local_multiplier_offset_[c];
-      ConstraintInputs in;
-      in.model = &model_;
-      in.constraint = &con;
-      in.block_state = state_of;
-      in.drive = con.drive >= 0 ? model_.drives[con.drive].evaluate(at.t) : DriveValue{};
-      in.with_velocity_terms = how.rows == ConstraintRows::acceleration;
-      const ConstraintEval ce = evaluate_constraint(in);
-      for (int k = 0; k < 4 && ce.blocks[k] >= 0; ++k) {
-        const int lo = local_offset(ce.blocks[k]);
-        for (int i = 0; i < 3; ++i)
-          for (int j = 0; j < ce.rows; ++j) r[lo + i] += ce.G(j, 3 * k + i) * uc[mo + j];
-      }
-      if (how.rows == ConstraintRows::acceleration) {
-        const double al = how.baumgarte_alpha, be = how.baumgarte_beta;
-        // G a + Gamma* = 0 (4-3, 4-27): the second time derivative of g, stabilised.
-        for (int j = 0; j < ce.rows; ++j) {
-          double ga = 0.0;
-          for (int k = 0; k < 4 && ce.blocks[k] >= 0; ++k) ga += ce.G.block<1, 3>(j, 3 * k).dot(state_[ce.blocks[k]].acc);
-          r[mo + j] = ga + ce.gamma(j) + 2 * al * be * ce.g_dot(j) + al * al * ce.g(j);
-        }
-      } else {
-        ConstraintInputs inc = in;
-        inc.block_state = state_c_of;
-        inc.drive = con.drive >= 0 ? model_.drives[con.drive].evaluate(at.tc) : DriveValue{};
-        inc.with_velocity_terms = false;
-        const ConstraintEval cc = separate_uc_ || at.tc != at.t ? evaluate_constraint(inc) : ce;
-        for (int j = 0; j < ce.rows; ++j) r[mo + j] = how.constraint_scale * cc.g(j);
-      }
-    }
+    loads_.add_residual(local_, at.t, how.load_scale, r);
+    constraints_.add_residual(local_, at, how, uc, separate_uc_, r);
   } catch (...) {
-    record_evaluation_error(describe_current_exception("loads and constraints"));
+    errors_.record_current_exception("loads and constraints");
     failed = true;
   }
   PetscCall(PetscLogEventEnd(events.constraints, 0, 0, 0, 0));
@@ -434,7 +290,7 @@ PetscErrorCode SystemAssembler::residual(const EvaluationPoint& at, const Evalua
   if (how.param == Parametrization::rotation_vector_rates)
     for (int b : dofs_.needed_blocks())
       if (model_.blocks[b].kind == SlotKind::rotation) {
-        const int lo = local_offset(b);
+        const int lo = local_.offset(b);
         const Vec3 rb = rows_T_[b] * Vec3(r[lo], r[lo + 1], r[lo + 2]);
         for (int i = 0; i < 3; ++i) r[lo + i] = rb(i);
       }
@@ -468,136 +324,22 @@ PetscErrorCode SystemAssembler::jacobian(const EvaluationPoint& at, const Evalua
   std::vector<Vec3> y(model_.blocks.size(), Vec3::Zero());
   const ElementContext ctx{how.load_scale * model_.gravity, at.t, !have_v_ && !have_a_ && cv == 0.0 && ca == 0.0};
 
-  // rows_I (cq K col_K_J + C col_C_J + M col_M_J) on 3x3 blocks (a scalar block uses the top-left
-  // entry, the rest stays zero): fixed sizes, no allocation in the element loop.
-  auto chain_block = [&](int bi, int bj, const Mat3& K, const Mat3& C, const Mat3& M) -> Mat3 {
-    const BlockChain& ci = chain_[bi];
-    const BlockChain& cj = chain_[bj];
-    return ci.rows * (cq * K * cj.col_K + C * cj.col_C + M * cj.col_M);
-  };
-
-  const std::vector<int>& elements = dofs_.local_elements();
   const LogEvents& events = log_events();
+  errors_.clear();
   PetscCall(PetscLogEventBegin(events.element_jacobian, 0, 0, 0, 0));
-  evaluation_error_.clear();
-  auto evaluate = [&](int first, ElementTangents* out) {
-    const ElementRun run = gather_run(model_, elements, first, run_length_[first], state_);
-    try {
-      if (run.count == 1)
-        run.elements[0]->tangents(run.states[0], ctx, out[0]);
-      else
-        run.elements[0]->tangents_batch(run.element_span(), run.state_span(), ctx, {out, run.size()});
-    } catch (...) {
-      record_evaluation_error(describe_current_exception(*run.elements[0]));
-      for (int k = 0; k < run.count; ++k) {
-        out[k].resize(run.elements[k]->num_dofs());
-        for (auto* m : {&out[k].K, &out[k].C, &out[k].M}) m->setConstant(std::nan(""));
-        out[k].residual.setConstant(std::nan(""));
-      }
-    }
-  };
-  parallel_for_each(static_cast<int>(threaded_runs_.size()), threads_, [&](int k) {
-    evaluate(threaded_runs_[k], &element_tangents_[buffer_of_[threaded_runs_[k]]]);
-  });
   // Elements' tangents go straight into the matrix's value arrays where the plan knows the
   // positions (every Jacobian after the first, on rows this rank owns), else through MatSetValues.
-  const bool direct = fill_.ready_for(J);
-  if (direct) PetscCall(fill_.begin(J));
-  thread_local std::array<ElementTangents, kMaxElementBatch> inline_t;
-  for (std::size_t i = 0; i < elements.size(); ++i) {
-    const ElementEntry& entry = model_.elements[elements[i]];
-    if (buffer_of_[i] < 0 && run_first_[i] == static_cast<int>(i)) evaluate(static_cast<int>(i), inline_t.data());
-    const ElementTangents& t = buffer_of_[i] < 0 ? inline_t[i - run_first_[i]] : element_tangents_[buffer_of_[i]];
-    PetscCall(add_element_jacobian(static_cast<int>(i), entry, t, cq, cv, ca, direct, J, y));
-  }
-  if (direct) PetscCall(fill_.end(J));
+  const bool direct = elements_.fill_ready(J);
+  PetscCall(elements_.add_jacobian(local_, ctx, cq, cv, ca, direct, J, y, errors_));
   PetscCall(PetscLogEventEnd(events.element_jacobian, 0, 0, 0, 0));
+
   PetscCall(PetscLogEventBegin(events.constraints, 0, 0, 0, 0));
-
-  auto state_of = [this](int b) -> const BlockState& { return state_[b]; };
-  auto state_c_of = [this](int b) -> const BlockState& { return state_c_[b]; };
-  const Eigen::Matrix3d zero3 = Eigen::Matrix3d::Zero();
   try {  // a failure marks the Jacobian unusable (evaluation_error), as an element's does
-    for (int l : dofs_.local_loads()) {
-      const NodalLoad& load = model_.loads[l];
-      const double scale = how.load_scale * (load.drive >= 0 ? model_.drives[load.drive].evaluate(at.t).value : 1.0);
-      const LoadEval le = evaluate_load(model_, load, state_of, scale, true);
-      if (le.blocks[1] >= 0) y[le.blocks[1]] -= le.f.tail<3>();
-      for (int ki = 0; ki < 2; ++ki)
-        for (int kj = 0; kj < 2; ++kj) {
-          if (le.blocks[ki] < 0 || le.blocks[kj] < 0) continue;
-          const Eigen::Matrix3d K = -le.K.block<3, 3>(3 * ki, 3 * kj);
-          if (K.isZero(0.0)) continue;
-          const Eigen::Matrix<double, 3, 3, Eigen::RowMajor> blk = chain_block(le.blocks[ki], le.blocks[kj], K, zero3, zero3);
-          PetscInt ri = dofs_.block_dof(le.blocks[ki]), cj = dofs_.block_dof(le.blocks[kj]);
-          PetscInt rows[3] = {ri, ri + 1, ri + 2}, cols[3] = {cj, cj + 1, cj + 2};
-          PetscCall(MatSetValues(J, 3, rows, 3, cols, blk.data(), ADD_VALUES));
-        }
-    }
-
-    for (int c : dofs_.local_constraints()) {
-      const Constraint& con = model_.constraints[c];
-      const int mo = local_multiplier_offset_[c];
-      const int m = con.rows();
-      ConstraintInputs in;
-      in.model = &model_;
-      in.constraint = &con;
-      in.block_state = state_of;
-      in.drive = con.drive >= 0 ? model_.drives[con.drive].evaluate(at.t) : DriveValue{};
-      in.lambda = uc + mo;
-      const ConstraintEval ce = evaluate_constraint(in);
-      const int nblk = ce.cols / 3;
-      std::vector<PetscInt> mult(m);
-      for (int j = 0; j < m; ++j) mult[j] = dofs_.multiplier_dof(c) + j;
-
-      for (int ki = 0; ki < nblk; ++ki) {
-        const int bi = ce.blocks[ki];
-        y[bi] += (ce.G.block(0, 3 * ki, m, 3).transpose() * Eigen::Map<const Eigen::VectorXd>(uc + mo, m)).eval();
-        PetscInt ri = dofs_.block_dof(bi);
-        PetscInt rows[3] = {ri, ri + 1, ri + 2};
-        // Geometric stiffness d(G^T lambda)/dq.
-        for (int kj = 0; kj < nblk; ++kj) {
-          const int bj = ce.blocks[kj];
-          const Eigen::Matrix<double, 3, 3, Eigen::RowMajor> blk = chain_block(bi, bj, ce.H.block<3, 3>(3 * ki, 3 * kj), zero3, zero3);
-          PetscInt cj = dofs_.block_dof(bj);
-          PetscInt cols[3] = {cj, cj + 1, cj + 2};
-          PetscCall(MatSetValues(J, 3, rows, 3, cols, blk.data(), ADD_VALUES));
-        }
-        // Multiplier columns: rows_I G^T, times dUc/dU since lambda is read from Uc.
-        RowMajor gt = how.uc_per_u * chain_[bi].rows * ce.G.block(0, 3 * ki, m, 3).transpose();
-        PetscCall(MatSetValues(J, 3, rows, m, mult.data(), gt.data(), ADD_VALUES));
-      }
-
-      // Constraint rows.
-      RowMajor grow;
-      if (how.rows == ConstraintRows::acceleration) {
-        for (int kj = 0; kj < nblk; ++kj) {
-          const int bj = ce.blocks[kj];
-          grow = ca * ce.G.block(0, 3 * kj, m, 3);
-          PetscInt cj = dofs_.block_dof(bj);
-          PetscInt cols[3] = {cj, cj + 1, cj + 2};
-          PetscCall(MatSetValues(J, m, mult.data(), 3, cols, grow.data(), ADD_VALUES));
-        }
-      } else {
-        ConstraintInputs inc = in;
-        inc.block_state = state_c_of;
-        inc.lambda = nullptr;
-        inc.drive = con.drive >= 0 ? model_.drives[con.drive].evaluate(at.tc) : DriveValue{};
-        const ConstraintEval cc = evaluate_constraint(inc);
-        for (int kj = 0; kj < cc.cols / 3; ++kj) {
-          const int bj = cc.blocks[kj];
-          grow = (cq * how.constraint_scale * how.uc_per_u) * cc.G.block(0, 3 * kj, m, 3) * chain_c_[bj].col_K;
-          PetscInt cj = dofs_.block_dof(bj);
-          PetscInt cols[3] = {cj, cj + 1, cj + 2};
-          PetscCall(MatSetValues(J, m, mult.data(), 3, cols, grow.data(), ADD_VALUES));
-        }
-      }
-      for (int j = 0; j < m; ++j) PetscCall(MatSetValue(J, mult[j], mult[j], 0.0, ADD_VALUES));
-    }
+    PetscCall(loads_.add_jacobian(local_, at.t, how.load_scale, cq, J, y));
+    PetscCall(constraints_.add_jacobian(local_, at, how, uc, cq, ca, J, y));
   } catch (...) {
-    record_evaluation_error(describe_current_exception("loads and constraints"));
+    errors_.record_current_exception("loads and constraints");
   }
-
   PetscCall(PetscLogEventEnd(events.constraints, 0, 0, 0, 0));
 
   // d(T^T y)/dphi on the diagonal blocks of rotation coordinates.
@@ -613,181 +355,7 @@ PetscErrorCode SystemAssembler::jacobian(const EvaluationPoint& at, const Evalua
   PetscCall(VecRestoreArrayRead(separate_uc_ ? uc_loc_ : u_loc_, &uc));
   PetscCall(MatAssemblyBegin(J, MAT_FINAL_ASSEMBLY));
   PetscCall(MatAssemblyEnd(J, MAT_FINAL_ASSEMBLY));
-  if (!direct) PetscCall(plan_element_fill(J));
-  PetscFunctionReturn(0);
-}
-
-// One element's tangents (K, C, M in its slots' frames) as J blocks rows_I (cq K col_K_J + C col_C_J
-// + M col_M_J) of the blocks' chain maps, the slots' frame offsets O folded into them (a rotation
-// slot sees R O: rows O, columns O^T), in fixed 3 x 3 sizes; a block of a translation, vector or
-// scalar slot has the plain chain (I, I, cv I, ca I).
-PetscErrorCode SystemAssembler::add_element_jacobian(int local, const ElementEntry& entry, const ElementTangents& t,
-                                                     double cq, double cv, double ca, bool direct, Mat J,
-                                                     std::vector<Vec3>& y) {
-  struct SlotMap {
-    int block, n, offset;
-    bool free, plain;
-    Mat3 rows, colK, colC, colM;
-  };
-  PetscFunctionBeginUser;
-  const auto kinds = entry.element->slots();
-  const int ns = static_cast<int>(kinds.size());
-  std::array<SlotMap, 8> maps;
-  if (ns > static_cast<int>(maps.size())) throw std::logic_error("add_element_jacobian: more than 8 slots");
-  int o = 0;
-  for (int k = 0; k < ns; ++k) {
-    SlotMap& m = maps[k];
-    m.block = entry.slots[k].block;
-    m.n = slot_size(kinds[k]);
-    m.offset = o;
-    m.free = !model_.blocks[m.block].fixed;
-    m.plain = kinds[k] != SlotKind::rotation;
-    if (!m.plain) {
-      const BlockChain& c = chain_[m.block];
-      const Mat3& O = entry.slots[k].offset;
-      m.rows = c.rows * O;
-      m.colK = O.transpose() * c.col_K;
-      m.colC = O.transpose() * c.col_C;
-      m.colM = O.transpose() * c.col_M;
-      y[m.block] += O * t.residual.segment<3>(o);
-    }
-    o += m.n;
-  }
-  const int n = o;
-  // The element's block of J: columns through the column blocks' chain maps, then rows through
-  // the row blocks'. Fixed 12 x 12 for the elements of two frames (beams, super trusses), else a
-  // fixed maximum size: no heap traffic either way.
-  using Local = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor, 36, 36>;
-  if (n > 36) throw std::logic_error("add_element_jacobian: more than 36 DoFs");
-  auto combine = [&](auto& out, const auto& K, const auto& C, const auto& M) {
-    for (int kj = 0; kj < ns; ++kj) {
-      const SlotMap& mj = maps[kj];
-      if (!mj.free) continue;
-      const int oj = mj.offset;
-      if (mj.plain) {
-        out.middleCols(oj, mj.n) = cq * K.middleCols(oj, mj.n);
-        if (cv != 0.0) out.middleCols(oj, mj.n) += cv * C.middleCols(oj, mj.n);
-        if (ca != 0.0) out.middleCols(oj, mj.n) += ca * M.middleCols(oj, mj.n);
-      } else {
-        const Mat3 colK = cq * mj.colK;
-        out.template middleCols<3>(oj).noalias() = K.template middleCols<3>(oj).lazyProduct(colK);
-        out.template middleCols<3>(oj).noalias() += C.template middleCols<3>(oj).lazyProduct(mj.colC);
-        out.template middleCols<3>(oj).noalias() += M.template middleCols<3>(oj).lazyProduct(mj.colM);
-      }
-    }
-    for (int ki = 0; ki < ns; ++ki) {
-      const SlotMap& mi = maps[ki];
-      if (!mi.free || mi.plain) continue;
-      const Eigen::Matrix<double, 3, Eigen::Dynamic, 0, 3, 36> rowsi = out.middleRows(mi.offset, 3);
-      out.middleRows(mi.offset, 3).noalias() = mi.rows.lazyProduct(rowsi);
-    }
-  };
-  // Into the matrix: through MatSetValues, or straight into its value arrays at the planned
-  // positions (the plan lists, row by row of each free slot i, one position per slot j; -1: fixed
-  // column or a row of another rank).
-  auto insert = [&](const auto& A) -> PetscErrorCode {
-    PetscFunctionBeginUser;
-    if (!direct) {
-      thread_local std::vector<PetscInt> idx;
-      idx.assign(n, -1);
-      for (int k = 0; k < ns; ++k)
-        if (maps[k].free)
-          for (int i = 0; i < maps[k].n; ++i) idx[maps[k].offset + i] = dofs_.block_dof(maps[k].block) + i;
-      // Fixed rows and columns go in as -1 indices, which MatSetValues skips.
-      PetscCall(MatSetValues(J, n, idx.data(), n, idx.data(), A.data(), ADD_VALUES));  // A row-major here
-      PetscFunctionReturn(0);
-    }
-    const PetscInt* plan = fill_.element_offsets(local);
-    const PetscInt stride = fill_.column_stride();
-    if (stride == 3) {
-      // BAIJ's 3 x 3 blocks are column-major and contiguous: the first row's position is the block's.
-      // Every slot has three DoFs (uniform_blocks); rows of another rank go through MatSetValues.
-      for (int ki = 0; ki < ns; ++ki) {
-        const SlotMap& mi = maps[ki];
-        if (!mi.free) continue;
-        const PetscInt* row0 = plan;
-        plan += 3 * ns;
-        for (int kj = 0; kj < ns; ++kj) {
-          const SlotMap& mj = maps[kj];
-          if (!mj.free) continue;
-          if (row0[kj] >= 0) {
-            Eigen::Map<Mat3>(fill_.values(row0[kj])) += A.template block<3, 3>(mi.offset, mj.offset);
-          } else {
-            const PetscInt ri = dofs_.block_dof(mi.block), cj = dofs_.block_dof(mj.block);
-            const PetscInt rows[3] = {ri, ri + 1, ri + 2}, cols[3] = {cj, cj + 1, cj + 2};
-            const Eigen::Matrix<double, 3, 3, Eigen::RowMajor> block = A.template block<3, 3>(mi.offset, mj.offset);
-            PetscCall(MatSetValues(J, 3, rows, 3, cols, block.data(), ADD_VALUES));
-          }
-        }
-      }
-      PetscFunctionReturn(0);
-    }
-    for (int ki = 0; ki < ns; ++ki) {
-      const SlotMap& mi = maps[ki];
-      if (!mi.free) continue;
-      for (int r = 0; r < mi.n; ++r, plan += ns) {
-        const int ar = mi.offset + r;
-        for (int kj = 0; kj < ns; ++kj) {
-          const SlotMap& mj = maps[kj];
-          if (!mj.free) continue;
-          const PetscInt at = plan[kj];
-          if (at >= 0) {
-            double* v = fill_.values(at);
-            for (int c = 0; c < mj.n; ++c) v[c * stride] += A(ar, mj.offset + c);
-          } else {
-            const PetscInt row = dofs_.block_dof(mi.block) + r, col = dofs_.block_dof(mj.block);
-            const PetscInt cols[3] = {col, col + 1, col + 2};
-            double vals[3];
-            for (int c = 0; c < mj.n; ++c) vals[c] = A(ar, mj.offset + c);
-            PetscCall(MatSetValues(J, 1, &row, mj.n, cols, vals, ADD_VALUES));
-          }
-        }
-      }
-    }
-    PetscFunctionReturn(0);
-  };
-  if (n == 12 && ns == 4) {
-    using Map12 = Eigen::Map<const Mat12>;
-    Mat12 A12;  // column-major: the column maps write whole columns
-    combine(A12, Map12(t.K.data()), Map12(t.C.data()), Map12(t.M.data()));
-    if (direct) {
-      PetscCall(insert(A12));
-    } else {
-      const Eigen::Matrix<double, 12, 12, Eigen::RowMajor> rows = A12;  // MatSetValues reads rows
-      PetscCall(insert(rows));
-    }
-  } else {
-    thread_local Local A;
-    A.resize(n, n);
-    combine(A, t.K, t.C, t.M);
-    PetscCall(insert(A));
-  }
-  PetscFunctionReturn(0);
-}
-
-PetscErrorCode SystemAssembler::plan_element_fill(Mat J) {
-  PetscFunctionBeginUser;
-  PetscCall(fill_.open(J));
-  const std::vector<int>& elements = dofs_.local_elements();
-  try {
-  for (std::size_t i = 0; i < elements.size(); ++i) {
-    const ElementEntry& entry = model_.elements[elements[i]];
-    const auto kinds = entry.element->slots();
-    fill_.start_element();
-    for (std::size_t ki = 0; ki < kinds.size(); ++ki) {
-      const int bi = entry.slots[ki].block;
-      if (model_.blocks[bi].fixed) continue;
-      for (int r = 0; r < slot_size(kinds[ki]); ++r)
-        for (std::size_t kj = 0; kj < kinds.size(); ++kj) {
-          const int bj = entry.slots[kj].block;
-          fill_.add_position(dofs_.block_dof(bi) + r, model_.blocks[bj].fixed ? -1 : dofs_.block_dof(bj));
-        }
-    }
-  }
-  } catch (const std::exception& e) {
-    SETERRQ(comm_, PETSC_ERR_PLIB, "%s", e.what());  // no exception crosses into PETSc
-  }
-  PetscCall(fill_.close());
+  if (!direct) PetscCall(elements_.plan_fill(J));
   PetscFunctionReturn(0);
 }
 
@@ -872,7 +440,7 @@ PetscErrorCode SystemAssembler::max_constraint_violation(Vec U, double t, double
     double value;
     int index;
   } local{-1.0, -1}, global{-1.0, -1};
-  auto state_of = [this](int b) -> const BlockState& { return state_[b]; };
+  auto state_of = [this](int b) -> const BlockState& { return local_.state[b]; };
   for (int c : dofs_.local_constraints()) {
     const Constraint& con = model_.constraints[c];
     ConstraintInputs in;

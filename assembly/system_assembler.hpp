@@ -5,7 +5,11 @@
 
 #include "assembly/block_kinematics.hpp"
 #include "assembly/dof_map.hpp"
-#include "assembly/matrix_fill.hpp"
+#include "assembly/element_term.hpp"
+#include "assembly/evaluation_settings.hpp"
+#include "assembly/load_term.hpp"
+#include "assembly/constraint_term.hpp"
+#include "assembly/local_state.hpp"
 #include "assembly/model_state.hpp"
 
 #include <petscmat.h>
@@ -20,30 +24,6 @@ namespace latticedyn {
 /// the chosen parametrisation (null = zero). Uc is the state at which the constraint rows are
 /// evaluated and from which the multipliers are read (generalized-alpha: the end of the step);
 /// null means U.
-struct EvaluationPoint {
-  Vec U = nullptr, V = nullptr, A = nullptr, Uc = nullptr;
-  double t = 0.0;   ///< time of the force balance
-  double tc = 0.0;  ///< time of the constraint rows (drives)
-};
-
-enum class ConstraintRows {
-  position,     ///< s g(Uc, tc) = 0: index-3 (generalized-alpha, statics)
-  acceleration  ///< G a + Gamma + 2 alpha beta g_dot + alpha^2 g = 0: Baumgarte (4-27)
-};
-
-struct EvaluationSettings {
-  Parametrization param = Parametrization::rotation_vector_rates;
-  double load_scale = 1.0;        ///< multiplies gravity and nodal loads (static load ramping)
-  double constraint_scale = 1.0;  ///< s of the position-level constraint rows
-  double uc_per_u = 1.0;          ///< dUc/dU: 1/alpha_f for generalized-alpha, else 1
-  ConstraintRows rows = ConstraintRows::position;
-  double baumgarte_alpha = 0.0;
-  double baumgarte_beta = 1.0;
-};
-
-/// Names under which create_matrix's matrices carry ISs of their owned rows that have no mass or
-/// stiffness of their own: the multipliers', and those of frames no element touches (held by
-/// constraints alone). A pivoting-free LU orders them behind the rows they couple to.
 inline constexpr const char* kMultiplierRows = "latticedyn_multiplier_rows";
 inline constexpr const char* kUnstiffenedRows = "latticedyn_unstiffened_rows";
 
@@ -75,7 +55,7 @@ class SystemAssembler {
   /// What the last residual or Jacobian met outside an element's domain on this rank (a rope's
   /// rest length through zero: the element's std::domain_error), empty if nothing; that
   /// element's entries are NaN then.
-  const std::string& evaluation_error() const { return evaluation_error_; }
+  const std::string& evaluation_error() const { return errors_.text(); }
   /// J = cq dF/dU + cv dF/dV + ca dF/dA; multiplier columns enter with uc_per_u.
   PetscErrorCode jacobian(const EvaluationPoint& at, const EvaluationSettings& how, double cq, double cv,
                           double ca, Mat J);
@@ -116,20 +96,13 @@ class SystemAssembler {
   }
 
  private:
-  struct LocalData;
   PetscErrorCode scatter_in(const EvaluationPoint& at);
   PetscErrorCode compute_states(const EvaluationSettings& how, bool with_chain, double cq, double cv, double ca);
-  int local_offset(int block) const { return local_block_offset_[block]; }
-  PetscErrorCode add_element_jacobian(int local, const ElementEntry& entry, const ElementTangents& t, double cq,
-                                      double cv, double ca, bool direct, Mat J, std::vector<Vec3>& y);
-  PetscErrorCode plan_element_fill(Mat J);
   void estimate_scales();
 
   const Model& model_;
   MPI_Comm comm_;
   DofMap dofs_;
-  std::vector<int> local_block_offset_;       // per model block, -1 if not needed/fixed
-  std::vector<int> local_multiplier_offset_;  // per constraint, -1 if not local
   int local_size_ = 0;
   Vec global_template_ = nullptr;
   Vec u_loc_ = nullptr, v_loc_ = nullptr, a_loc_ = nullptr, uc_loc_ = nullptr, r_loc_ = nullptr;
@@ -137,30 +110,20 @@ class SystemAssembler {
   VecScatter to_root_ = nullptr;  // gather() to rank 0
   Vec root_seq_ = nullptr;
   bool have_v_ = false, have_a_ = false, separate_uc_ = false;
-  std::vector<BlockState> state_, state_c_;
+  // The terms read the rank's blocks and multipliers from here; its states and chain maps are set
+  // per evaluation by compute_states.
+  LocalState local_;
+  ElementTerm elements_;
+  LoadTerm loads_;
+  ConstraintTerm constraints_;
+  FirstError errors_;
   std::vector<char> constrained_;  // blocks of this rank's constraints: the only users of state_c_
-  std::vector<BlockChain> chain_, chain_c_;
   std::vector<Mat3> rows_T_;  // T(phi)^T per block (rotation-vector rates), identity otherwise
   std::vector<Vec3> phi_;     // rotation vectors of needed rotation blocks
   double mass_scale_ = 1.0;
   double stiffness_scale_ = 1.0;
   double length_scale_ = 1.0;
   double load_scale_ = 1.0;
-  // Expensive elements are evaluated on threads_ threads into buffers first (element_loop.hpp);
-  // cheap ones inline, where a thread would cost more than it saves.
-  int threads_ = 1;
-  std::vector<int> threaded_;         // positions in local_elements() of the threaded elements
-  std::vector<int> buffer_of_;        // per position in local_elements(): its buffer, or -1
-  // Runs of consecutive elements of one type that evaluate together (Element::batch_size), never
-  // mixing threaded and inline ones: per position, the first position of its run; at a run's
-  // first position, its length.
-  std::vector<int> run_first_, run_length_;
-  std::vector<int> threaded_runs_;  // first positions of the threaded runs
-  std::vector<VecX> element_residuals_;            // per threaded element
-  std::vector<ElementTangents> element_tangents_;  // per threaded element
-  std::string evaluation_error_;
-  void record_evaluation_error(const std::string& what);
-  MatrixFill fill_;  // where the elements' blocks sit in the Jacobian, after its first assembly
 };
 
 }  // namespace latticedyn
