@@ -15,7 +15,8 @@ What is drawn: the "members" block of each output time (the line cells: elements
 bodies' draw lines) as tubes and the "joints" block (one vertex per model joint) as spheres,
 so every body shows, also a rigid body that draws no line (one joint, at its origin).
 An XDMF written before the blocks existed (one grid per time, no blocks) draws its lines only.
-Lines are coloured by body, or by axial force with --color axial_force (strut ties, beams,
+Lines are coloured by body (a legend names the bodies, from the .h5, up to 24 of them), or by
+axial force with --color axial_force (strut ties, beams,
 super truss members, ropes); joints take their body's colour, or grey with axial force.
 Every picture and frame carries the model's title (--title replaces it), the simulated time and
 the x, y, z axes, and one colour range holds for all times drawn: the largest |axial force| over
@@ -137,8 +138,31 @@ def survey(reader, blocks, times, a):
     return bounds, (min(r[0] for r in ranges), max(r[1] for r in ranges))
 
 
+def body_names(xdmf):
+    """The model's body names by index, from the .h5 the XDMF reads (/model/body_names); an
+    empty list when h5py or the file is missing (the legend then shows indices)."""
+    try:
+        import h5py
+    except ImportError:
+        return []
+    for _, element in ElementTree.iterparse(xdmf, events=("start",)):
+        if element.tag == "DataItem" and element.get("Format") == "HDF" and element.text:
+            h5 = os.path.join(os.path.dirname(os.path.abspath(xdmf)), element.text.strip().split(":")[0])
+            try:
+                with h5py.File(h5, "r") as f:
+                    return [n.decode() if isinstance(n, bytes) else str(n) for n in f["model/body_names"][()]]
+            except (OSError, KeyError):
+                return []
+    return []
+
+
+# A legend of body names is drawn up to this many bodies; beyond, it would cover the picture.
+MAX_LEGEND_BODIES = 24
+
+
 def colour_map(view, a, span):
-    """The colour map all displays share, fixed to `span`, with a legend for axial force."""
+    """The colour map all displays share, fixed to `span`, with a legend: body names (up to
+    MAX_LEGEND_BODIES bodies) or the axial force's scale."""
     lut = GetColorTransferFunction(a.color)
     lut.AutomaticRescaleRangeMode = "Never"
     if a.color == "body":
@@ -148,8 +172,14 @@ def colour_map(view, a, span):
         lut.ApplyPreset("Brewer Qualitative Set1", True)
         bodies = range(int(span[0]), int(span[1]) + 1)
         palette = [lut.IndexedColors[i:i + 3] for i in range(0, len(lut.IndexedColors), 3)]
-        lut.Annotations = [str(v) for b in bodies for v in (b, b)]
+        names = body_names(a.xdmf)
+        lut.Annotations = [v for b in bodies for v in (str(b), names[b] if b < len(names) else str(b))]
         lut.IndexedColors = [c for k in range(len(bodies)) for c in palette[k % len(palette)]]
+        if len(bodies) <= MAX_LEGEND_BODIES:
+            bar = GetScalarBar(lut, view)
+            bar.Title = "body"
+            bar.ComponentTitle = ""
+            bar.TitleColor = bar.LabelColor = DARK
         return lut
     lut.ApplyPreset("Cool to Warm", True)
     lut.RescaleTransferFunction(span[0], span[1])
@@ -160,6 +190,12 @@ def colour_map(view, a, span):
     return lut
 
 
+def lut_has_legend(a):
+    """Whether the body colours get a legend (few enough bodies, see colour_map)."""
+    lo, hi = a.span
+    return a.color == "body" and hi - lo + 1 <= MAX_LEGEND_BODIES
+
+
 def draw(parts, view, a, radius):
     """Shows the members as tubes and the joints as spheres; returns their displays."""
     # The members are an unstructured grid; tubes need poly data.
@@ -167,7 +203,7 @@ def draw(parts, view, a, radius):
     shown = [Show(tubes, view)]
     array = parts.array(a.color)
     ColorBy(shown[0], ("CELLS", array))
-    if a.color == "axial_force":
+    if a.color == "axial_force" or lut_has_legend(a):
         shown[0].SetScalarBarVisibility(view, True)
     if parts.joints is not None:
         spheres = Glyph(Input=parts.joints, GlyphType="Sphere", GlyphMode="All Points",
@@ -244,6 +280,7 @@ def picture(reader, blocks, steps, a):
     wanted = a.times if a.times else [steps[-1]]
     nearest = [min(steps, key=lambda s: abs(s - t)) for t in wanted]
     bounds, span = survey(reader, blocks, nearest, a)
+    a.span = span
     view = make_view(a)
     radius = tube_radius(a, bounds)
     for k, t in enumerate(nearest):
@@ -268,6 +305,7 @@ def movie(reader, blocks, steps, a):
     count = min(len(steps), max(1, a.frames))
     frames = [steps[round(i * (len(steps) - 1) / max(1, count - 1))] for i in range(count)]
     bounds, span = survey(reader, blocks, frames, a)
+    a.span = span
     view = make_view(a)
     parts = Parts(reader, blocks, frames[0])
     draw(parts, view, a, tube_radius(a, bounds))
