@@ -100,6 +100,11 @@ struct ResultWriter::Impl {
     return continuing ? io::open_group(parent, name, ctx) : io::create_group(parent, name, ctx);
   }
   void open_existing();
+  std::vector<std::string> constraint_names() const {
+    std::vector<std::string> names;
+    for (const Constraint& c : model.constraints) names.push_back(c.name);
+    return names;
+  }
   void continue_probes();
 };
 
@@ -457,7 +462,7 @@ void ResultWriter::Impl::create_viz() {
         },
         true);
   document.emplace(io::XdmfLayout{h5.filename().string(), model.title.empty() ? opts.base_name : model.title,
-                                  viz->num_points(), viz->num_lines(), nj, nc});
+                                  viz->num_points(), viz->num_lines(), nj, nc, constraint_names()});
   for (double t : kept_times) document->add_step(t);
 }
 

@@ -33,6 +33,12 @@ std::string xml_escape(const std::string& s) {
 
 }  // namespace
 
+XdmfDocument::XdmfDocument(XdmfLayout layout) : layout_(std::move(layout)) {
+  const auto& names = layout_.constraint_names;
+  if (!names.empty() && static_cast<int>(names.size()) <= kMaxNamedConstraints)
+    for (const std::string& name : names) named_constraints_.push_back(Block{xml_escape(name), {}, {}});
+}
+
 void XdmfDocument::add_step(double time) {
   const std::string h5 = xml_escape(layout_.h5_name), step = std::to_string(steps_);
   Block* block = nullptr;  // everything below appends to this block's grids
@@ -40,20 +46,22 @@ void XdmfDocument::add_step(double time) {
   auto put = [&](const std::string& s) { block->grids += s; };
   // A DataItem selecting this step's entry `at` of a (T, n) or (T, n, 3) dataset as a (1, n[, 3])
   // array; `precision` is 4 for the drawing data stored in single precision, else 8.
+  // `first`: the first of the n rows selected (a single constraint's row) of the dataset's `rows`
+  // (n when empty), which the HDF item declares.
   auto slab = [&](const char* dataset, const std::string& n, bool vector, const std::string& at,
-                  const char* precision = "8") {
+                  const char* precision = "8", const std::string& first = "0", const std::string& rows = "") {
     put("            <DataItem ItemType=\"HyperSlab\" Type=\"HyperSlab\" Dimensions=\"1 " + n + (vector ? " 3" : "") +
         "\">\n");
     if (vector)
-      put("              <DataItem Dimensions=\"3 3\" NumberType=\"Int\" Format=\"XML\">" + at + " 0 0 1 1 1 1 " + n +
-          " 3</DataItem>\n");
+      put("              <DataItem Dimensions=\"3 3\" NumberType=\"Int\" Format=\"XML\">" + at + " " + first +
+          " 0 1 1 1 1 " + n + " 3</DataItem>\n");
     else
       put("              <DataItem Dimensions=\"3 2\" NumberType=\"Int\" Format=\"XML\">" + at + " 0 1 1 1 " + n +
           "</DataItem>\n");
     put("              <DataItem Dimensions=\"");
     block->gaps.push_back(block->grids.size());
-    put(" " + n + (vector ? " 3" : "") + "\" NumberType=\"Float\" Precision=\"" + precision + "\" Format=\"HDF\">" + h5 +
-        ":" + dataset + "</DataItem>\n");
+    put(" " + (rows.empty() ? n : rows) + (vector ? " 3" : "") + "\" NumberType=\"Float\" Precision=\"" + precision +
+        "\" Format=\"HDF\">" + h5 + ":" + dataset + "</DataItem>\n");
     put("            </DataItem>\n");
   };
   auto attribute = [&](const char* name, bool vector, bool cell, const std::function<void()>& data) {
@@ -114,7 +122,25 @@ void XdmfDocument::add_step(double time) {
     attribute("body", false, false, [&] { static_ints(n, "/model/joint_body"); });
     put("        </Grid>\n");
   }
-  if (layout_.constraints > 0) {
+  // One block per named constraint: a vertex at its second joint, its row of each series.
+  const std::string all = std::to_string(layout_.constraints);
+  for (std::size_t c = 0; c < named_constraints_.size(); ++c) {
+    const std::string row = std::to_string(c);
+    begin_grid(named_constraints_[c]);
+    put("          <Topology TopologyType=\"Polyvertex\" NodesPerElement=\"1\" NumberOfElements=\"1\">\n");
+    put("            <DataItem Dimensions=\"1\" NumberType=\"Int\" Format=\"XML\">0</DataItem>\n");
+    put("          </Topology>\n          <Geometry GeometryType=\"XYZ\">\n");
+    slab("/constraints/position", "1", true, step, "8", row, all);
+    put("          </Geometry>\n");
+    attribute("reaction_force [N]", true, false, [&] { slab("/constraints/reaction_force", "1", true, step, "8", row, all); });
+    attribute("reaction_moment [N m]", true, false,
+              [&] { slab("/constraints/reaction_moment", "1", true, step, "8", row, all); });
+    attribute("constraint", false, false, [&] {
+      put("            <DataItem Dimensions=\"1\" NumberType=\"Int\" Format=\"XML\">" + row + "</DataItem>\n");
+    });
+    put("        </Grid>\n");
+  }
+  if (layout_.constraints > 0 && named_constraints_.empty()) {
     const std::string n = std::to_string(layout_.constraints);
     vertices(constraints_, layout_.constraints, "/constraints/position", "/viz/constraint_vertices");
     attribute("reaction_force [N]", true, false, [&] { slab("/constraints/reaction_force", n, true, step); });
@@ -132,16 +158,22 @@ std::string XdmfDocument::text() const {
             steps.size() * (members_.gaps.size() + joints_.gaps.size() + constraints_.gaps.size()) + 1024);
   x += "<?xml version=\"1.0\" ?>\n<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n<Xdmf Version=\"2.0\">\n  <Domain>\n";
   x += "    <Grid Name=\"" + xml_escape(layout_.title) + "\" GridType=\"Collection\" CollectionType=\"Spatial\">\n";
-  for (const Block* b : {&members_, &joints_, &constraints_}) {
-    if (b->grids.empty()) continue;
-    x += "      <Grid Name=\"" + b->name + "\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+  auto temporal = [&](const Block& b, const std::string& indent) {
+    x += indent + "<Grid Name=\"" + b.name + "\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
     std::size_t from = 0;
-    for (std::size_t gap : b->gaps) {
-      x.append(b->grids, from, gap - from);
+    for (std::size_t gap : b.gaps) {
+      x.append(b.grids, from, gap - from);
       x += steps;
       from = gap;
     }
-    x.append(b->grids, from, std::string::npos);
+    x.append(b.grids, from, std::string::npos);
+    x += indent + "</Grid>\n";
+  };
+  for (const Block* b : {&members_, &joints_, &constraints_})
+    if (!b->grids.empty()) temporal(*b, "      ");
+  if (!named_constraints_.empty() && steps_ > 0) {
+    x += "      <Grid Name=\"constraints\" GridType=\"Collection\" CollectionType=\"Spatial\">\n";
+    for (const Block& b : named_constraints_) temporal(b, "        ");
     x += "      </Grid>\n";
   }
   x += "    </Grid>\n  </Domain>\n</Xdmf>\n";

@@ -17,21 +17,29 @@ struct XdmfLayout {
   int lines = 0;        ///< rows of /viz/lines
   int joints = 0;       ///< rows of /joints/position per step (0: no "joints" block)
   int constraints = 0;  ///< rows of /constraints/position per step (0: no "constraints" block)
+  /// The constraints' names: with at most kMaxNamedConstraints of them, "constraints" holds one
+  /// block per constraint, named after it (ParaView lists them by name); else one block of all.
+  std::vector<std::string> constraint_names;
 };
+
+/// The most constraints that get a block each; beyond, the XDMF would grow by a grid per constraint
+/// and step for a list nobody browses.
+inline constexpr int kMaxNamedConstraints = 64;
 
 /// XDMF 2 document for ParaView's "XDMF Reader" (the Xdmf3 readers misread multi-dimensional
 /// hyperslabs, see docs/output-format.md): a spatial collection (a multiblock dataset in ParaView)
 /// of three temporal collections, the blocks "members" (line cells through /viz/points with axial
 /// force, body and element), "joints" (a vertex per joint: velocity, frame axes, body) and
-/// "constraints" (a vertex per constraint at its second joint: reaction force and moment), each
-/// with one Uniform grid per step selecting entry k of its time series. Blocks are collections
+/// "constraints" (a vertex per constraint at its second joint: reaction force and moment; for up
+/// to kMaxNamedConstraints constraints a collection of one block per constraint, named after
+/// it), each with one Uniform grid per step selecting entry k of its time series. Blocks are collections
 /// of their own, not steps of one, so their names stay the same at every time (ParaView makes
 /// repeated grid names unique by numbering them). Attribute names carry their units
 /// ("axial_force [N]"). Each grid is formatted once; text() only splices in the current number
 /// of steps, which every HDF DataItem declares.
 class XdmfDocument {
  public:
-  explicit XdmfDocument(XdmfLayout layout) : layout_(std::move(layout)) {}
+  explicit XdmfDocument(XdmfLayout layout);
   /// Adds the grid of the next step (entry steps() of the time series) at `time`.
   void add_step(double time);
   int steps() const { return steps_; }
@@ -47,6 +55,7 @@ class XdmfDocument {
   };
   XdmfLayout layout_;
   Block members_{"members", {}, {}}, joints_{"joints", {}, {}}, constraints_{"constraints", {}, {}};
+  std::vector<Block> named_constraints_;  // one per constraint when they are named (XdmfLayout)
   int steps_ = 0;
 };
 

@@ -2,6 +2,7 @@
 // HDF5 C API, the XDMF checked against it, the CSV parsed; readability mid-run and error paths.
 #include "io/recorded_state.hpp"
 #include "io/result_writer.hpp"
+#include "io/xdmf.hpp"
 
 #include "assembly/system_assembler.hpp"
 #include "core/rotation.hpp"
@@ -229,18 +230,23 @@ std::vector<std::string> attribute_names(const std::string& block_text) {
 
 /// Checks the XDMF's structure and that each of its HDF references names an existing dataset of
 /// the declared dimensions in `h5`, by a file name relative to the XDMF: a spatial collection of
-/// the temporal collections "members", then "joints" and "constraints" when the model has them,
-/// each with one grid per time and the attributes ParaView shows, units in their names.
+/// the temporal collections "members", then "joints" and, for a model with constraints, a spatial
+/// collection "constraints" of one temporal collection per constraint named after it
+/// (`constraints`: their names), each with one grid per time and the attributes ParaView shows,
+/// units in their names.
 void expect_xdmf_matches(const fs::path& xdmf, hid_t h5, const std::vector<double>& times, bool joints = true,
-                         bool constraints = true) {
+                         const std::vector<std::string>& constraints = {}) {
   const std::string text = slurp(xdmf);
   expect_well_formed(text);
   EXPECT_NE(text.find("CollectionType=\"Spatial\""), std::string::npos);
+  EXPECT_EQ(text.find("<Grid Name=\"constraints\" GridType=\"Collection\" CollectionType=\"Spatial\">") !=
+                std::string::npos,
+            !constraints.empty());
 
   std::vector<std::string> expected_blocks{"members"};
   if (joints) expected_blocks.emplace_back("joints");
-  if (constraints) expected_blocks.emplace_back("constraints");
-  const std::regex temporal("<Grid Name=\"([a-z]+)\" GridType=\"Collection\" CollectionType=\"Temporal\">");
+  expected_blocks.insert(expected_blocks.end(), constraints.begin(), constraints.end());
+  const std::regex temporal("<Grid Name=\"([^\"]+)\" GridType=\"Collection\" CollectionType=\"Temporal\">");
   std::vector<std::string> blocks;
   std::vector<std::size_t> starts;
   for (auto it = std::sregex_iterator(text.begin(), text.end(), temporal); it != std::sregex_iterator(); ++it) {
@@ -249,16 +255,18 @@ void expect_xdmf_matches(const fs::path& xdmf, hid_t h5, const std::vector<doubl
   }
   ASSERT_EQ(blocks, expected_blocks);
   starts.push_back(text.size());
+  const std::vector<std::string> reactions{"reaction_force [N]", "reaction_moment [N m]", "constraint"};
   const std::map<std::string, std::vector<std::string>> attributes{
       {"members", {"displacement [m]", "axial_force [N]", "body", "element"}},
-      {"joints", {"velocity [m/s]", "axis_x", "axis_y", "axis_z", "body"}},
-      {"constraints", {"reaction_force [N]", "reaction_moment [N m]", "constraint"}}};
+      {"joints", {"velocity [m/s]", "axis_x", "axis_y", "axis_z", "body"}}};
   // HDF references per grid: lines, points, displacement (points now and at step 0), axial
-  // force, body, element; a vertex block: vertices, positions, then one per attribute.
-  const std::map<std::string, int> references_per_grid{{"members", 7}, {"joints", 7}, {"constraints", 5}};
+  // force, body, element; joints: vertices, positions, then one per attribute; a constraint: its
+  // position, force and moment (its vertex and index are inline numbers).
+  const std::map<std::string, int> references_per_grid{{"members", 7}, {"joints", 7}};
   for (std::size_t b = 0; b < blocks.size(); ++b) {
     const std::string block = text.substr(starts[b], starts[b + 1] - starts[b]);
     SCOPED_TRACE(blocks[b]);
+    const bool constraint = b >= (joints ? 2u : 1u);
     const std::regex uniform("<Grid Name=\"" + blocks[b] + " ([0-9]+)\" GridType=\"Uniform\">");
     long k = 0;
     for (auto it = std::sregex_iterator(block.begin(), block.end(), uniform); it != std::sregex_iterator(); ++it, ++k)
@@ -271,7 +279,9 @@ void expect_xdmf_matches(const fs::path& xdmf, hid_t h5, const std::vector<doubl
       EXPECT_EQ(std::stod((*it)[1]), times[t]);
     }
     EXPECT_EQ(t, times.size());
-    EXPECT_EQ(attribute_names(block), attributes.at(blocks[b]));
+    EXPECT_EQ(attribute_names(block), constraint ? reactions : attributes.at(blocks[b]));
+    if (constraint)  // its own row of the constraint series
+      EXPECT_NE(block.find(">0 " + std::to_string(b - (joints ? 2 : 1)) + " 0 1 1 1 1 1 3<"), std::string::npos);
 
     const std::regex item("<DataItem Dimensions=\"([0-9 ]+)\"([^>]*)Format=\"HDF\">([^<:]+):([^<]+)</DataItem>");
     int references = 0;
@@ -292,11 +302,18 @@ void expect_xdmf_matches(const fs::path& xdmf, hid_t h5, const std::vector<doubl
       H5Tclose(type);
       H5Dclose(ds);
     }
-    EXPECT_EQ(references, references_per_grid.at(blocks[b]) * static_cast<int>(times.size()));
+    EXPECT_EQ(references, (constraint ? 3 : references_per_grid.at(blocks[b])) * static_cast<int>(times.size()));
   }
   const std::regex function("<DataItem ItemType=\"Function\" Function=\"\\$0 - \\$1\" Dimensions=\"1 [0-9]+ 3\">");
   EXPECT_EQ(std::distance(std::sregex_iterator(text.begin(), text.end(), function), std::sregex_iterator()),
             static_cast<long>(times.size()));
+}
+
+/// The model's constraint names, in order.
+std::vector<std::string> constraint_names(const Model& model) {
+  std::vector<std::string> names;
+  for (const Constraint& c : model.constraints) names.push_back(c.name);
+  return names;
 }
 
 std::vector<std::vector<std::string>> read_csv(const fs::path& p) {
@@ -480,7 +497,7 @@ TEST(ResultWriter, RoundTripOfThreeSteps) {
     }
   }
 
-  expect_xdmf_matches(writer.xdmf_path(), f.id, times);
+  expect_xdmf_matches(writer.xdmf_path(), f.id, times, true, constraint_names(model));
 
   const auto csv = read_csv(writer.csv_path());
   ASSERT_EQ(csv.size(), 4u);
@@ -553,7 +570,7 @@ TEST(ResultWriter, FilesAreReadableWhileTheWriterIsOpen) {
     H5File f(writer.h5_path());  // the file itself, writer still open
     ASSERT_GE(f.id, 0);
     EXPECT_EQ(read<double>(f.id, "/energy_total").dims.at(0), 2u);
-    expect_xdmf_matches(writer.xdmf_path(), f.id, {0.0, 0.1});
+    expect_xdmf_matches(writer.xdmf_path(), f.id, {0.0, 0.1}, true, constraint_names(run.model));
   }
   EXPECT_FALSE(fs::exists(dir.path / "partial.xdmf.tmp"));
   EXPECT_EQ(read_csv(writer.csv_path()).size(), 3u);
@@ -605,7 +622,7 @@ TEST(ResultWriter, ModelWithoutConstraintsAndDrawSequences) {
   }
   EXPECT_EQ(read<int>(f.id, "/viz/joint_vertices").v.size(), run.model.joints.size());
   EXPECT_FALSE(exists(f.id, "/viz/constraint_vertices"));
-  expect_xdmf_matches(writer.xdmf_path(), f.id, {0.0, 0.1}, true, false);
+  expect_xdmf_matches(writer.xdmf_path(), f.id, {0.0, 0.1});
   const auto csv = read_csv(writer.csv_path());
   ASSERT_EQ(csv.size(), 3u);
   EXPECT_EQ(csv[0], std::vector<std::string>{"time [s]"});
@@ -664,7 +681,31 @@ bodies:
       largest = std::max(largest, forces[m]);
     }
   EXPECT_GT(largest - smallest, 1e3);  // the members really differ, so a mix-up would show
-  expect_xdmf_matches(writer.xdmf_path(), f.id, {0.0, 0.1}, true, false);
+  expect_xdmf_matches(writer.xdmf_path(), f.id, {0.0, 0.1});
+}
+
+// Constraints get a block each, named after them, up to kMaxNamedConstraints; a model with more
+// gets one block of all (a grid per constraint and step would swell the file for a list nobody
+// browses).
+TEST(Xdmf, ConstraintsAreNamedBlocksUpToALimit) {
+  for (const int n : {3, io::kMaxNamedConstraints, io::kMaxNamedConstraints + 1}) {
+    SCOPED_TRACE(n);
+    io::XdmfLayout layout{"r.h5", "t", 4, 2, 5, n, {}};
+    for (int c = 0; c < n; ++c) layout.constraint_names.push_back("c<" + std::to_string(c) + ">");
+    io::XdmfDocument doc(layout);
+    doc.add_step(0.0);
+    doc.add_step(0.5);
+    const std::string x = doc.text();
+    expect_well_formed(x);
+    const bool named = n <= io::kMaxNamedConstraints;
+    EXPECT_EQ(x.find("<Grid Name=\"constraints\" GridType=\"Collection\" CollectionType=\"Spatial\">") != std::string::npos,
+              named);
+    EXPECT_EQ(x.find("<Grid Name=\"constraints\" GridType=\"Collection\" CollectionType=\"Temporal\">") != std::string::npos,
+              !named);
+    // Names are escaped for XML.
+    EXPECT_EQ(x.find("<Grid Name=\"c&lt;0&gt;\" GridType=\"Collection\" CollectionType=\"Temporal\">") != std::string::npos,
+              named);
+  }
 }
 
 TEST(ResultWriter, ANewRunTruncatesTheFilesOfTheLast) {
