@@ -65,7 +65,13 @@ struct ResultWriter::Impl {
   std::vector<Output> outputs;                     // declared after `file`: closed before it
   int steps = 0;                                   // completed appends
   std::optional<io::XdmfDocument> document;        // none while nothing is drawn
-  std::chrono::steady_clock::time_point flushed{};  // the last flush of the .h5 (and XDMF rewrite)
+  std::chrono::steady_clock::time_point flushed{};  // the last flush of the .h5
+  // The XDMF is rewritten whole, and on long runs it grows to many megabytes: after the first 16
+  // steps a rewrite waits 20 times as long as the last one took (rewrites cost at most 5 % of
+  // the run; a 100 MB XDMF is then rewritten every few seconds instead of every second).
+  std::chrono::steady_clock::time_point xdmf_written{};
+  std::chrono::steady_clock::duration xdmf_pause{};
+  bool xdmf_stale = false;  // steps flushed to the .h5 that the XDMF does not name yet
   bool unflushed = false;
   std::FILE* probes = nullptr;
   bool closed = false;
@@ -91,7 +97,9 @@ struct ResultWriter::Impl {
   void create_state(hsize_t size);
   void compute_step(const ModelState& state);
   void write_pending();
-  void flush();
+  /// Writes the kept rows and flushes the .h5 and the CSV, then rewrites the XDMF if due (always
+  /// when `final`).
+  void flush(bool final = false);
   void write_probe_header();
   void write_probe_row(const ModelState& state);
   void add(hid_t group, const std::string& name, std::vector<hsize_t> row, const char* units,
@@ -606,7 +614,7 @@ void ResultWriter::Impl::write_pending() {
   }
 }
 
-void ResultWriter::Impl::flush() {
+void ResultWriter::Impl::flush(bool final) {
   write_pending();
   try {
     ctx.check(H5Fflush(file.get(), H5F_SCOPE_GLOBAL), "flush the file");
@@ -615,7 +623,15 @@ void ResultWriter::Impl::flush() {
     throw;
   }
   if (probes && std::fflush(probes) != 0) os_fail("write", csv, errno);
-  if (document) io::replace_file(xdmf, document->text());
+  const auto now = std::chrono::steady_clock::now();
+  if (document && (final || steps <= 16 || now - xdmf_written >= xdmf_pause)) {
+    io::replace_file(xdmf, document->text());
+    xdmf_written = std::chrono::steady_clock::now();
+    xdmf_pause = 20 * (xdmf_written - now);
+    xdmf_stale = false;
+  } else {
+    xdmf_stale = document.has_value();
+  }
   flushed = std::chrono::steady_clock::now();
   unflushed = false;
 }
@@ -642,9 +658,9 @@ void ResultWriter::close() {
   w.closed = true;
   const io::QuietHdf5Errors quiet;
   bool ok = true;
-  if (w.unflushed && !w.broken) {
+  if ((w.unflushed || w.xdmf_stale) && !w.broken) {
     try {
-      w.flush();
+      w.flush(true);
     } catch (const std::exception&) {
       ok = false;
     }
