@@ -5,6 +5,7 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <charconv>
 #include <cstdio>
@@ -33,14 +34,60 @@ std::string xml_escape(const std::string& s) {
 
 }  // namespace
 
+namespace {
+constexpr char kStepMark = '\x01', kTimeMark = '\x02';  // never in XML text we write
+}  // namespace
+
 XdmfDocument::XdmfDocument(XdmfLayout layout) : layout_(std::move(layout)) {
   const auto& names = layout_.constraint_names;
   if (!names.empty() && static_cast<int>(names.size()) <= kMaxNamedConstraints)
-    for (const std::string& name : names) named_constraints_.push_back(Block{xml_escape(name), {}, {}});
+    for (const std::string& name : names) named_constraints_.push_back(Block{xml_escape(name), {}, {}, {}});
+  // Every step's grids are the same text but for the step's number, its time and the number of
+  // steps: formatted once with marks there and cut into pieces, which add_step joins.
+  format_step(std::string(1, kStepMark), std::string(1, kTimeMark));
+  for (Block* b : blocks()) {
+    // Where the pieces end, in order: a gap at offset p comes before a mark at p.
+    std::vector<std::pair<std::size_t, Piece::Then>> cuts;
+    for (std::size_t g : b->gaps) cuts.emplace_back(g, Piece::gap);
+    for (std::size_t i = 0; i < b->grids.size(); ++i)
+      if (b->grids[i] == kStepMark || b->grids[i] == kTimeMark)
+        cuts.emplace_back(i, b->grids[i] == kStepMark ? Piece::step : Piece::time);
+    std::stable_sort(cuts.begin(), cuts.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+    std::size_t from = 0;
+    for (const auto& [at, then] : cuts) {
+      b->step_pieces.push_back(Piece{b->grids.substr(from, at - from), then});
+      from = then == Piece::gap ? at : at + 1;  // a mark is replaced, a gap only filled
+    }
+    b->step_pieces.push_back(Piece{b->grids.substr(from), Piece::end});
+    b->grids.clear();
+    b->gaps.clear();
+  }
+}
+
+std::vector<XdmfDocument::Block*> XdmfDocument::blocks() {
+  std::vector<Block*> all{&members_, &joints_, &constraints_};
+  for (Block& b : named_constraints_) all.push_back(&b);
+  return all;
 }
 
 void XdmfDocument::add_step(double time) {
-  const std::string h5 = xml_escape(layout_.h5_name), step = std::to_string(steps_);
+  const std::string step = std::to_string(steps_), time_text = format_double(time);
+  for (Block* b : blocks()) {
+    for (const Piece& p : b->step_pieces) {
+      b->grids += p.text;
+      switch (p.then) {
+        case Piece::step: b->grids += step; break;
+        case Piece::time: b->grids += time_text; break;
+        case Piece::gap: b->gaps.push_back(b->grids.size()); break;
+        case Piece::end: break;
+      }
+    }
+  }
+  ++steps_;
+}
+
+void XdmfDocument::format_step(const std::string& step, const std::string& time_text) {
+  const std::string h5 = xml_escape(layout_.h5_name);
   Block* block = nullptr;  // everything below appends to this block's grids
 
   auto put = [&](const std::string& s) { block->grids += s; };
@@ -77,7 +124,7 @@ void XdmfDocument::add_step(double time) {
   auto begin_grid = [&](Block& b) {
     block = &b;
     put("        <Grid Name=\"" + b.name + " " + step + "\" GridType=\"Uniform\">\n");
-    put("          <Time Value=\"" + format_double(time) + "\"/>\n");
+    put("          <Time Value=\"" + time_text + "\"/>\n");
   };
   // A grid of one vertex per point of a (T, n, 3) position series.
   auto vertices = [&](Block& b, int count, const char* positions, const char* ids) {
@@ -148,7 +195,6 @@ void XdmfDocument::add_step(double time) {
     attribute("constraint", false, false, [&] { static_ints(n, "/viz/constraint_vertices"); });
     put("        </Grid>\n");
   }
-  ++steps_;
 }
 
 std::string XdmfDocument::text() const {

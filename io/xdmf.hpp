@@ -35,7 +35,8 @@ inline constexpr int kMaxNamedConstraints = 64;
 /// it), each with one Uniform grid per step selecting entry k of its time series. Blocks are collections
 /// of their own, not steps of one, so their names stay the same at every time (ParaView makes
 /// repeated grid names unique by numbering them). Attribute names carry their units
-/// ("axial_force [N]"). Each grid is formatted once; text() only splices in the current number
+/// ("axial_force [N]"). A step's grids are formatted once, as pieces each step joins with its
+/// number and time; text() only splices in the current number
 /// of steps, which every HDF DataItem declares.
 class XdmfDocument {
  public:
@@ -47,14 +48,26 @@ class XdmfDocument {
   std::string text() const;
 
  private:
-  /// One block's grids, the number of steps left out at `gaps` (offsets into `grids`).
+  /// Text of one step's grid up to where the step's number, its time or the number of steps
+  /// (a gap, filled in by text()) goes.
+  struct Piece {
+    enum Then { step, time, gap, end };
+    std::string text;
+    Then then = end;
+  };
+  /// One block's grids, the number of steps left out at `gaps` (offsets into `grids`), and the
+  /// pieces every step's grid is made of.
   struct Block {
     std::string name;
     std::string grids;
     std::vector<std::size_t> gaps;
+    std::vector<Piece> step_pieces;
   };
+  /// Formats one step's grids of every block (step number and time as given) into the blocks.
+  void format_step(const std::string& step, const std::string& time_text);
+  std::vector<Block*> blocks();
   XdmfLayout layout_;
-  Block members_{"members", {}, {}}, joints_{"joints", {}, {}}, constraints_{"constraints", {}, {}};
+  Block members_{"members", {}, {}, {}}, joints_{"joints", {}, {}, {}}, constraints_{"constraints", {}, {}, {}};
   std::vector<Block> named_constraints_;  // one per constraint when they are named (XdmfLayout)
   int steps_ = 0;
 };

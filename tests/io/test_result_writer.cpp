@@ -280,8 +280,9 @@ void expect_xdmf_matches(const fs::path& xdmf, hid_t h5, const std::vector<doubl
     }
     EXPECT_EQ(t, times.size());
     EXPECT_EQ(attribute_names(block), constraint ? reactions : attributes.at(blocks[b]));
-    if (constraint)  // its own row of the constraint series
+    if (constraint) {  // its own row of the constraint series
       EXPECT_NE(block.find(">0 " + std::to_string(b - (joints ? 2 : 1)) + " 0 1 1 1 1 1 3<"), std::string::npos);
+    }
 
     const std::regex item("<DataItem Dimensions=\"([0-9 ]+)\"([^>]*)Format=\"HDF\">([^<:]+):([^<]+)</DataItem>");
     int references = 0;
