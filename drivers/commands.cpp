@@ -155,6 +155,7 @@ std::unique_ptr<ResultWriter> open_writer(const Simulation& sim, const CommandOp
       o.directory = opt.output_directory.empty() ? sim.output.directory : opt.output_directory;
       o.base_name = base_name.empty() ? sim.output.name : base_name;
       o.probe_joints = sim.output.probe_joints;
+      o.body_blocks = sim.output.body_blocks;
       o.continuation = continuation;
       writer = std::make_unique<ResultWriter>(sim.model, o);
     } catch (const std::exception& e) {

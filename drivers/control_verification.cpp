@@ -57,6 +57,7 @@ void verify_control(const ControlSpec& spec, const QuasiStaticMap& map, const Co
   wo.directory = sim.output.directory;
   wo.base_name = sim.output.name;
   wo.probe_joints = sim.output.probe_joints;
+  wo.body_blocks = sim.output.body_blocks;
   ResultWriter writer(sim.model, wo);
   OutputObserver out(sa, &writer, sim.output.interval, sim.dynamics.t_end);
   ProgressObserver progress(PETSC_COMM_SELF, sim.dynamics.t_start, sim.dynamics.t_end);

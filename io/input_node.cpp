@@ -254,6 +254,14 @@ InputNode InputNode::load_string(const std::string& text, const std::string& nam
   return InputNode(root, "", file);
 }
 
+InputNode InputNode::load_string(const std::string& text, const std::string& name,
+                                 const std::vector<KeyOverride>& overrides) {
+  InputNode root = load_string(text, name);
+  if (!overrides.empty() && !root.node_.IsMap()) root.fail("expected a map of keys (a model file)");
+  for (const KeyOverride& o : overrides) apply_override(root.node_, o, name);
+  return root;
+}
+
 void InputNode::fail(const std::string& message) const {
   const YAML::Mark m = node_.Mark();
   // A node built without position (e.g. an empty document) reports line 1.

@@ -58,6 +58,9 @@ class InputNode {
   static InputNode load_file(const std::string& path, const std::vector<KeyOverride>& overrides);
   /// Parses text (for tests), reporting errors against `name`.
   static InputNode load_string(const std::string& text, const std::string& name);
+  /// As load_string, then the overrides as in load_file.
+  static InputNode load_string(const std::string& text, const std::string& name,
+                               const std::vector<KeyOverride>& overrides);
 
   InputNode(const InputNode&) = default;
   /// Rebinds to the other node. (YAML::Node's own assignment writes into the node it refers to,

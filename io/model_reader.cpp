@@ -175,7 +175,7 @@ void read_solver(const InputNode& n, Simulation& sim) {
 }
 
 void read_output(const ReaderContext& ctx, const InputNode& n, Simulation& sim) {
-  n.allow_only({"directory", "name", "interval", "checkpoint_interval", "probes"});
+  n.allow_only({"directory", "name", "interval", "checkpoint_interval", "probes", "body_blocks"});
   sim.output.directory = n.get_string("directory", sim.output.directory);
   if (auto k = n.get("name")) {
     sim.output.name = k->as_string();
@@ -187,6 +187,7 @@ void read_output(const ReaderContext& ctx, const InputNode& n, Simulation& sim) 
   sim.dynamics.checkpoint_interval = n.get_non_negative("checkpoint_interval", 0.0);
   if (auto p = n.get("probes"))
     for (const InputNode& j : p->items()) sim.output.probe_joints.push_back(ctx.joint(j));
+  sim.output.body_blocks = n.get_bool("body_blocks", false);
 }
 
 // A recorded state to start from, checked here against the model so that a file from another
@@ -326,6 +327,11 @@ Simulation read_simulation(const std::string& path, const std::vector<KeyOverrid
 
 Simulation read_simulation_from_string(const std::string& yaml, const std::string& name) {
   return timed_read([&] { return InputNode::load_string(yaml, name); }, name);
+}
+
+Simulation read_simulation_from_string(const std::string& yaml, const std::string& name,
+                                       const std::vector<KeyOverride>& overrides) {
+  return timed_read([&] { return InputNode::load_string(yaml, name, overrides); }, name);
 }
 
 }  // namespace latticedyn

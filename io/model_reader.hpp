@@ -17,6 +17,7 @@ struct OutputSettings {
   std::string name;               ///< base name of the files in it
   double interval = 0.0;          ///< simulated seconds between outputs, 0 = every step
   std::vector<int> probe_joints;  ///< joints written to the probe CSV
+  bool body_blocks = false;       ///< the XDMF draws each body as a block named after it
 };
 
 struct Simulation {
@@ -42,5 +43,7 @@ Simulation read_simulation(const std::string& path);
 /// The model with values replaced at dotted key paths first (see KeyOverride).
 Simulation read_simulation(const std::string& path, const std::vector<KeyOverride>& overrides);
 Simulation read_simulation_from_string(const std::string& yaml, const std::string& name);
+Simulation read_simulation_from_string(const std::string& yaml, const std::string& name,
+                                       const std::vector<KeyOverride>& overrides);
 
 }  // namespace latticedyn

@@ -28,7 +28,7 @@ using io::Hid;
 
 namespace {
 
-constexpr int kFormatVersion = 2;  // 2: joint axes, constraint reactions, XDMF blocks
+constexpr int kFormatVersion = 3;  // 2: joint axes, constraint reactions, XDMF blocks; 3: body blocks
 constexpr std::size_t kPendingBytes = std::size_t{4} << 20;  // rows kept in memory between writes
 
 [[noreturn]] void os_fail(const std::string& what, const fs::path& path, int err) {
@@ -469,8 +469,20 @@ void ResultWriter::Impl::create_viz() {
             std::copy_n(joint_axes.data() + 9 * j + 3 * axis, 3, out + 3 * j);
         },
         true);
-  document.emplace(io::XdmfLayout{h5.filename().string(), model.title.empty() ? opts.base_name : model.title,
-                                  viz->num_points(), viz->num_lines(), nj, nc, constraint_names()});
+  io::XdmfLayout layout{h5.filename().string(), model.title.empty() ? opts.base_name : model.title,
+                        viz->num_points(), viz->num_lines(), nj, nc, constraint_names(), {}};
+  if (opts.body_blocks)
+    for (const io::VizGeometry::BodyRange& r : viz->body_ranges())
+      layout.bodies.push_back(io::XdmfBody{model.bodies[r.body].name, r.first_line, r.lines, r.first_point, r.points});
+  // Each body block's cells, numbered from the body's first point (results of format 2, continued,
+  // get them now).
+  if (layout.names_bodies() && (!continuing || H5Lexists(g.get(), "body_lines", H5P_DEFAULT) <= 0)) {
+    std::vector<int> local = viz->lines();
+    for (const io::XdmfBody& b : layout.bodies)
+      for (int i = 2 * b.first_line; i < 2 * (b.first_line + b.lines); ++i) local[i] -= b.first_point;
+    io::write_ints(g.get(), "body_lines", local, ctx, 2);
+  }
+  document.emplace(std::move(layout));
   for (double t : kept_times) document->add_step(t);
 }
 

@@ -38,12 +38,17 @@ struct ResultWriterOptions {
   /// Set: the files exist (written for the same model) and are continued after their first
   /// `steps` output steps instead of created; later steps, CSV rows and checkpoints are dropped.
   std::optional<ResultContinuation> continuation;
+  /// The XDMF's "members" as one block per body, named after it (up to io::kMaxNamedBodies
+  /// bodies); else one block of all, a `body` array telling them apart. Off by default: the
+  /// XDMF grows by a grid per body and output step (for the reduced crane about four times the
+  /// text, its dynamics a quarter slower).
+  bool body_blocks = false;
 };
 
 /// Writes one output time per append(). The layout, in full, is in docs/output-format.md; in short
 /// (T = steps written, every real in IEEE double, SI units):
 ///
-///   /                        attributes title, generator = "latticedyn", format_version = 2
+///   /                        attributes title, generator = "latticedyn", format_version = 3
 ///   /model/...               static description: block indices, labels, names, types, counts
 ///   /time                    T
 ///   /blocks/position         T x nTrans x 3   inertial, of every translation block (fixed too)
@@ -64,7 +69,8 @@ struct ResultWriterOptions {
 ///   /viz/points T x nPoints x 3;  /viz/axial_force T x nLines
 ///   /viz/joint_axis_x, _y, _z T x nJoints x 3 (the joints' frames, for glyphs)
 ///   /viz/lines nLines x 2, /viz/body nLines, /viz/element nLines, /viz/joint_vertices,
-///   /viz/constraint_vertices (static)
+///   /viz/constraint_vertices, /viz/body_lines (each body's lines numbered from its first point,
+///   for the XDMF's body blocks) (static)
 ///
 /// A time series whose row would be empty (no constraints, no rotation blocks, ...) is not
 /// created. Time series are chunked along time and extended by one entry per append; the file is

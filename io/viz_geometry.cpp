@@ -80,6 +80,27 @@ VizGeometry VizGeometry::plan(const ModelState& state) {
   return g;
 }
 
+std::vector<VizGeometry::BodyRange> VizGeometry::body_ranges() const {
+  std::vector<BodyRange> ranges;
+  std::vector<char> seen;
+  for (int l = 0; l < num_lines(); ++l) {
+    const int b = line_body_[l], a = lines_[2 * l], c = lines_[2 * l + 1];
+    if (ranges.empty() || ranges.back().body != b) {
+      if (b < 0) return {};
+      if (static_cast<int>(seen.size()) <= b) seen.resize(b + 1, 0);
+      if (seen[b]) return {};  // the body's lines come in two runs
+      seen[b] = 1;
+      ranges.push_back(BodyRange{b, l, 0, std::min(a, c), 0});
+    }
+    BodyRange& r = ranges.back();
+    ++r.lines;
+    const int last = std::max({r.first_point + r.points - 1, a, c});
+    r.first_point = std::min({r.first_point, a, c});
+    r.points = last - r.first_point + 1;
+  }
+  return ranges;
+}
+
 void VizGeometry::points(const ModelState& state, const std::vector<ElementOutput>& elements,
                          std::vector<double>& xyz) const {
   const Model& model = state.model();

@@ -31,6 +31,17 @@ class VizGeometry {
   /// Index of each line's polyline within its element's axis_polylines, -1 for rigid-body lines.
   const std::vector<int>& line_polyline() const { return line_polyline_; }
 
+  /// The lines and points one body draws: lines [first_line, first_line + lines), through points
+  /// [first_point, first_point + points).
+  struct BodyRange {
+    int body = -1;
+    int first_line = 0, lines = 0, first_point = 0, points = 0;
+  };
+  /// Per drawn body (body order), its lines and points when every body's lines are consecutive,
+  /// as the element and rigid-body order makes them; empty otherwise (then no body can be drawn
+  /// as a block of its own without copying its data).
+  std::vector<BodyRange> body_ranges() const;
+
   /// Point positions (3 per point) at `state`, the elements' polylines taken from `elements`
   /// (Element::output at the same state, one per model element). Throws std::runtime_error if an
   /// element's number of axis points differs from the first state's.

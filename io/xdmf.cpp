@@ -38,7 +38,13 @@ namespace {
 constexpr char kStepMark = '\x01', kTimeMark = '\x02';  // never in XML text we write
 }  // namespace
 
+bool XdmfLayout::names_bodies() const {
+  return !bodies.empty() && static_cast<int>(bodies.size()) <= kMaxNamedBodies;
+}
+
 XdmfDocument::XdmfDocument(XdmfLayout layout) : layout_(std::move(layout)) {
+  if (layout_.names_bodies())
+    for (const XdmfBody& body : layout_.bodies) named_bodies_.push_back(Block{xml_escape(body.name), {}, {}, {}});
   const auto& names = layout_.constraint_names;
   if (!names.empty() && static_cast<int>(names.size()) <= kMaxNamedConstraints)
     for (const std::string& name : names) named_constraints_.push_back(Block{xml_escape(name), {}, {}, {}});
@@ -67,6 +73,7 @@ XdmfDocument::XdmfDocument(XdmfLayout layout) : layout_(std::move(layout)) {
 std::vector<XdmfDocument::Block*> XdmfDocument::blocks() {
   std::vector<Block*> all{&members_, &joints_, &constraints_};
   for (Block& b : named_constraints_) all.push_back(&b);
+  for (Block& b : named_bodies_) all.push_back(&b);
   return all;
 }
 
@@ -103,8 +110,8 @@ void XdmfDocument::format_step(const std::string& step, const std::string& time_
       put("              <DataItem Dimensions=\"3 3\" NumberType=\"Int\" Format=\"XML\">" + at + " " + first +
           " 0 1 1 1 1 " + n + " 3</DataItem>\n");
     else
-      put("              <DataItem Dimensions=\"3 2\" NumberType=\"Int\" Format=\"XML\">" + at + " 0 1 1 1 " + n +
-          "</DataItem>\n");
+      put("              <DataItem Dimensions=\"3 2\" NumberType=\"Int\" Format=\"XML\">" + at + " " + first +
+          " 1 1 1 " + n + "</DataItem>\n");
     put("              <DataItem Dimensions=\"");
     block->gaps.push_back(block->grids.size());
     put(" " + (rows.empty() ? n : rows) + (vector ? " 3" : "") + "\" NumberType=\"Float\" Precision=\"" + precision +
@@ -120,6 +127,16 @@ void XdmfDocument::format_step(const std::string& step, const std::string& time_
   auto static_ints = [&](const std::string& n, const char* dataset) {
     put("            <DataItem Dimensions=\"" + n + "\" NumberType=\"Int\" Precision=\"4\" Format=\"HDF\">" + h5 + ":" +
         dataset + "</DataItem>\n");
+  };
+  // Rows [first, first + n) of a static (rows) or (rows, 2) integer dataset.
+  auto static_rows = [&](const char* dataset, int first, int n, int rows, bool pairs) {
+    const std::string count = std::to_string(n), pair = pairs ? " 2" : "";
+    put("            <DataItem ItemType=\"HyperSlab\" Type=\"HyperSlab\" Dimensions=\"" + count + pair + "\">\n");
+    put("              <DataItem Dimensions=\"3" + pair + "\" NumberType=\"Int\" Format=\"XML\">" + std::to_string(first) +
+        (pairs ? " 0 1 1 " : " 1 ") + count + pair + "</DataItem>\n");
+    put("              <DataItem Dimensions=\"" + std::to_string(rows) + pair +
+        "\" NumberType=\"Int\" Precision=\"4\" Format=\"HDF\">" + h5 + ":" + dataset + "</DataItem>\n");
+    put("            </DataItem>\n");
   };
   auto begin_grid = [&](Block& b) {
     block = &b;
@@ -138,25 +155,51 @@ void XdmfDocument::format_step(const std::string& step, const std::string& time_
   };
 
   const std::string lines = std::to_string(layout_.lines), points = std::to_string(layout_.points);
-  begin_grid(members_);
-  put("          <Topology TopologyType=\"Polyline\" NodesPerElement=\"2\" NumberOfElements=\"" + lines + "\">\n");
-  put("            <DataItem Dimensions=\"" + lines + " 2\" NumberType=\"Int\" Precision=\"4\" Format=\"HDF\">" + h5 +
-      ":/viz/lines</DataItem>\n");
-  put("          </Topology>\n          <Geometry GeometryType=\"XYZ\">\n");
-  slab("/viz/points", points, true, step, "4");
-  put("          </Geometry>\n");
-  // The displacement since the first output, computed by the reader from the points (the .h5
-  // does not repeat them).
-  attribute("displacement [m]", true, false, [&] {
-    put("            <DataItem ItemType=\"Function\" Function=\"$0 - $1\" Dimensions=\"1 " + points + " 3\">\n");
+  if (named_bodies_.empty()) {
+    begin_grid(members_);
+    put("          <Topology TopologyType=\"Polyline\" NodesPerElement=\"2\" NumberOfElements=\"" + lines + "\">\n");
+    put("            <DataItem Dimensions=\"" + lines + " 2\" NumberType=\"Int\" Precision=\"4\" Format=\"HDF\">" + h5 +
+        ":/viz/lines</DataItem>\n");
+    put("          </Topology>\n          <Geometry GeometryType=\"XYZ\">\n");
     slab("/viz/points", points, true, step, "4");
-    slab("/viz/points", points, true, "0", "4");
-    put("            </DataItem>\n");
-  });
-  attribute("axial_force [N]", false, true, [&] { slab("/viz/axial_force", lines, false, step); });
-  attribute("body", false, true, [&] { static_ints(lines, "/viz/body"); });
-  attribute("element", false, true, [&] { static_ints(lines, "/viz/element"); });
-  put("        </Grid>\n");
+    put("          </Geometry>\n");
+    // The displacement since the first output, computed by the reader from the points (the .h5
+    // does not repeat them).
+    attribute("displacement [m]", true, false, [&] {
+      put("            <DataItem ItemType=\"Function\" Function=\"$0 - $1\" Dimensions=\"1 " + points + " 3\">\n");
+      slab("/viz/points", points, true, step, "4");
+      slab("/viz/points", points, true, "0", "4");
+      put("            </DataItem>\n");
+    });
+    attribute("axial_force [N]", false, true, [&] { slab("/viz/axial_force", lines, false, step); });
+    attribute("body", false, true, [&] { static_ints(lines, "/viz/body"); });
+    attribute("element", false, true, [&] { static_ints(lines, "/viz/element"); });
+    put("        </Grid>\n");
+  }
+  // A body's block: its rows of the same datasets, its cells numbered from its first point.
+  for (std::size_t b = 0; b < named_bodies_.size(); ++b) {
+    const XdmfBody& body = layout_.bodies[b];
+    const std::string n = std::to_string(body.points), cells = std::to_string(body.lines),
+                      first_point = std::to_string(body.first_point), first_line = std::to_string(body.first_line);
+    begin_grid(named_bodies_[b]);
+    put("          <Topology TopologyType=\"Polyline\" NodesPerElement=\"2\" NumberOfElements=\"" + cells + "\">\n");
+    static_rows("/viz/body_lines", body.first_line, body.lines, layout_.lines, true);
+    put("          </Topology>\n          <Geometry GeometryType=\"XYZ\">\n");
+    slab("/viz/points", n, true, step, "4", first_point, points);
+    put("          </Geometry>\n");
+    attribute("displacement [m]", true, false, [&] {
+      put("            <DataItem ItemType=\"Function\" Function=\"$0 - $1\" Dimensions=\"1 " + n + " 3\">\n");
+      slab("/viz/points", n, true, step, "4", first_point, points);
+      slab("/viz/points", n, true, "0", "4", first_point, points);
+      put("            </DataItem>\n");
+    });
+    attribute("axial_force [N]", false, true,
+              [&] { slab("/viz/axial_force", cells, false, step, "8", first_line, lines); });
+    attribute("body", false, true, [&] { static_rows("/viz/body", body.first_line, body.lines, layout_.lines, false); });
+    attribute("element", false, true,
+              [&] { static_rows("/viz/element", body.first_line, body.lines, layout_.lines, false); });
+    put("        </Grid>\n");
+  }
 
   if (layout_.joints > 0) {
     const std::string n = std::to_string(layout_.joints);
@@ -200,8 +243,12 @@ void XdmfDocument::format_step(const std::string& step, const std::string& time_
 std::string XdmfDocument::text() const {
   const std::string steps = std::to_string(steps_);
   std::string x;
-  x.reserve(members_.grids.size() + joints_.grids.size() + constraints_.grids.size() +
-            steps.size() * (members_.gaps.size() + joints_.gaps.size() + constraints_.gaps.size()) + 1024);
+  std::size_t size = 1024;
+  auto count = [&](const Block& b) { size += b.grids.size() + steps.size() * b.gaps.size() + 256; };
+  for (const Block* b : {&members_, &joints_, &constraints_}) count(*b);
+  for (const auto* named_blocks : {&named_bodies_, &named_constraints_})
+    for (const Block& b : *named_blocks) count(b);
+  x.reserve(size);
   x += "<?xml version=\"1.0\" ?>\n<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n<Xdmf Version=\"2.0\">\n  <Domain>\n";
   x += "    <Grid Name=\"" + xml_escape(layout_.title) + "\" GridType=\"Collection\" CollectionType=\"Spatial\">\n";
   auto temporal = [&](const Block& b, const std::string& indent) {
@@ -215,13 +262,18 @@ std::string XdmfDocument::text() const {
     x.append(b.grids, from, std::string::npos);
     x += indent + "</Grid>\n";
   };
-  for (const Block* b : {&members_, &joints_, &constraints_})
-    if (!b->grids.empty()) temporal(*b, "      ");
-  if (!named_constraints_.empty() && steps_ > 0) {
-    x += "      <Grid Name=\"constraints\" GridType=\"Collection\" CollectionType=\"Spatial\">\n";
-    for (const Block& b : named_constraints_) temporal(b, "        ");
+  // A spatial collection named `name` of one temporal collection per named block.
+  auto named = [&](const char* name, const std::vector<Block>& named_blocks) {
+    if (named_blocks.empty() || steps_ == 0) return;
+    x += std::string("      <Grid Name=\"") + name + "\" GridType=\"Collection\" CollectionType=\"Spatial\">\n";
+    for (const Block& b : named_blocks) temporal(b, "        ");
     x += "      </Grid>\n";
-  }
+  };
+  if (!members_.grids.empty()) temporal(members_, "      ");
+  named("members", named_bodies_);
+  for (const Block* b : {&joints_, &constraints_})
+    if (!b->grids.empty()) temporal(*b, "      ");
+  named("constraints", named_constraints_);
   x += "    </Grid>\n  </Domain>\n</Xdmf>\n";
   return x;
 }

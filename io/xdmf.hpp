@@ -9,6 +9,13 @@
 
 namespace latticedyn::io {
 
+/// A body drawn as a block of its own: its lines and the points they run through (rows of
+/// /viz/lines and /viz/points; /viz/body_lines holds its lines numbered from its first point).
+struct XdmfBody {
+  std::string name;
+  int first_line = 0, lines = 0, first_point = 0, points = 0;
+};
+
 /// What the XDMF refers to. The .h5 is addressed by file name only, so the folder can be moved.
 struct XdmfLayout {
   std::string h5_name;  ///< e.g. "results.h5"
@@ -20,16 +27,24 @@ struct XdmfLayout {
   /// The constraints' names: with at most kMaxNamedConstraints of them, "constraints" holds one
   /// block per constraint, named after it (ParaView lists them by name); else one block of all.
   std::vector<std::string> constraint_names;
+  /// The drawn bodies: with 1 to kMaxNamedBodies of them, "members" holds one block per body,
+  /// named after it, whose cells and points are the body's rows of the /viz datasets.
+  std::vector<XdmfBody> bodies;
+  /// Whether "members" is split into named body blocks (then the writer provides /viz/body_lines).
+  bool names_bodies() const;
 };
 
 /// The most constraints that get a block each; beyond, the XDMF would grow by a grid per constraint
 /// and step for a list nobody browses.
 inline constexpr int kMaxNamedConstraints = 64;
+/// The same for bodies: a lattice of a body per bay draws as one block.
+inline constexpr int kMaxNamedBodies = 64;
 
 /// XDMF 2 document for ParaView's "XDMF Reader" (the Xdmf3 readers misread multi-dimensional
 /// hyperslabs, see docs/output-format.md): a spatial collection (a multiblock dataset in ParaView)
 /// of three temporal collections, the blocks "members" (line cells through /viz/points with axial
-/// force, body and element), "joints" (a vertex per joint: velocity, frame axes, body) and
+/// force, body and element; for up to kMaxNamedBodies bodies whose lines are consecutive a
+/// collection of one block per body, named after it), "joints" (a vertex per joint: velocity, frame axes, body) and
 /// "constraints" (a vertex per constraint at its second joint: reaction force and moment; for up
 /// to kMaxNamedConstraints constraints a collection of one block per constraint, named after
 /// it), each with one Uniform grid per step selecting entry k of its time series. Blocks are collections
@@ -69,6 +84,7 @@ class XdmfDocument {
   XdmfLayout layout_;
   Block members_{"members", {}, {}, {}}, joints_{"joints", {}, {}, {}}, constraints_{"constraints", {}, {}, {}};
   std::vector<Block> named_constraints_;  // one per constraint when they are named (XdmfLayout)
+  std::vector<Block> named_bodies_;       // one per body when they are named
   int steps_ = 0;
 };
 

@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # ctest's rendering check (verification/CMakeLists.txt): runs a short crane case and draws it with
 # scripts/render.py in ParaView under xvfb, a PNG at three times coloured by body and a
-# low-resolution MP4 coloured by axial force, then checks both files exist and are not empty and
-# that render.py printed nothing but its "wrote" line (no VTK messages). Exit 77 (skipped) without
+# low-resolution MP4 coloured by axial force (from results with the XDMF's body blocks,
+# output.body_blocks), then checks both files exist and are not empty and that render.py printed
+# nothing but its "wrote" line (no VTK messages). Exit 77 (skipped) without
 # pvpython, xvfb-run or ffmpeg.
 #   scripts/render-test.sh LATTICEDYN_EXE OUT_DIR
 set -euo pipefail
@@ -31,6 +32,15 @@ render() {
   return 1
 }
 render --output "$out/crane.png" --times 0 1 2 --view iso --size 320 240
+# The same run with a block per body in the XDMF.
+cat > "$out/crane_bodies.yaml" <<EOF
+base: $root/verification/cases/crane_short.yaml
+output: {interval: 0.1, probes: [load.1], body_blocks: true}
+EOF
+"$exe" run "$out/crane_bodies.yaml" --output "$out" > "$out/run_bodies.log" 2>&1
+xdmf="$out/crane_bodies.xdmf"
+grep -q '<Grid Name="hoisting_rope" GridType="Collection" CollectionType="Temporal">' "$xdmf" ||
+  { echo "render-test: $xdmf has no block named after the body hoisting_rope" >&2; exit 1; }
 render --movie "$out/crane.mp4" --view iso --frames 21 --fps 10 --size 320 240 --color axial_force
 for f in crane.png crane.mp4; do
   [[ -s "$out/$f" ]] || { echo "render-test: $out/$f missing or empty" >&2; exit 1; }

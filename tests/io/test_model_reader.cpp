@@ -57,6 +57,7 @@ solver:
 output:
   interval: 0.1
   probes: [tie.2]
+  body_blocks: true
 )";
 
 TEST(ModelReader, ReadsAValidModel) {
@@ -76,6 +77,7 @@ TEST(ModelReader, ReadsAValidModel) {
   EXPECT_EQ(sim.output.directory, "results/valid");
   ASSERT_EQ(sim.output.probe_joints.size(), 1u);
   EXPECT_EQ(m.joints[sim.output.probe_joints[0]].name, "tie.2");
+  EXPECT_TRUE(sim.output.body_blocks);
 }
 
 struct BadInput {

@@ -2,6 +2,7 @@
 // HDF5 C API, the XDMF checked against it, the CSV parsed; readability mid-run and error paths.
 #include "io/recorded_state.hpp"
 #include "io/result_writer.hpp"
+#include "io/viz_geometry.hpp"
 #include "io/xdmf.hpp"
 
 #include "assembly/system_assembler.hpp"
@@ -233,17 +234,23 @@ std::vector<std::string> attribute_names(const std::string& block_text) {
 /// the temporal collections "members", then "joints" and, for a model with constraints, a spatial
 /// collection "constraints" of one temporal collection per constraint named after it
 /// (`constraints`: their names), each with one grid per time and the attributes ParaView shows,
-/// units in their names.
+/// units in their names. With `bodies` (their names), "members" is a spatial collection of one
+/// temporal collection per body, named after it.
 void expect_xdmf_matches(const fs::path& xdmf, hid_t h5, const std::vector<double>& times, bool joints = true,
-                         const std::vector<std::string>& constraints = {}) {
+                         const std::vector<std::string>& constraints = {}, const std::vector<std::string>& bodies = {}) {
   const std::string text = slurp(xdmf);
   expect_well_formed(text);
   EXPECT_NE(text.find("CollectionType=\"Spatial\""), std::string::npos);
   EXPECT_EQ(text.find("<Grid Name=\"constraints\" GridType=\"Collection\" CollectionType=\"Spatial\">") !=
                 std::string::npos,
             !constraints.empty());
+  EXPECT_EQ(text.find("<Grid Name=\"members\" GridType=\"Collection\" CollectionType=\"Spatial\">") !=
+                std::string::npos,
+            !bodies.empty());
 
-  std::vector<std::string> expected_blocks{"members"};
+  std::vector<std::string> expected_blocks = bodies;
+  if (bodies.empty()) expected_blocks.emplace_back("members");
+  const std::size_t member_blocks = expected_blocks.size();
   if (joints) expected_blocks.emplace_back("joints");
   expected_blocks.insert(expected_blocks.end(), constraints.begin(), constraints.end());
   const std::regex temporal("<Grid Name=\"([^\"]+)\" GridType=\"Collection\" CollectionType=\"Temporal\">");
@@ -266,7 +273,8 @@ void expect_xdmf_matches(const fs::path& xdmf, hid_t h5, const std::vector<doubl
   for (std::size_t b = 0; b < blocks.size(); ++b) {
     const std::string block = text.substr(starts[b], starts[b + 1] - starts[b]);
     SCOPED_TRACE(blocks[b]);
-    const bool constraint = b >= (joints ? 2u : 1u);
+    const bool constraint = b >= member_blocks + (joints ? 1u : 0u);
+    const std::string kind = b < member_blocks ? "members" : blocks[b];
     const std::regex uniform("<Grid Name=\"" + blocks[b] + " ([0-9]+)\" GridType=\"Uniform\">");
     long k = 0;
     for (auto it = std::sregex_iterator(block.begin(), block.end(), uniform); it != std::sregex_iterator(); ++it, ++k)
@@ -279,9 +287,10 @@ void expect_xdmf_matches(const fs::path& xdmf, hid_t h5, const std::vector<doubl
       EXPECT_EQ(std::stod((*it)[1]), times[t]);
     }
     EXPECT_EQ(t, times.size());
-    EXPECT_EQ(attribute_names(block), constraint ? reactions : attributes.at(blocks[b]));
+    EXPECT_EQ(attribute_names(block), constraint ? reactions : attributes.at(kind));
     if (constraint) {  // its own row of the constraint series
-      EXPECT_NE(block.find(">0 " + std::to_string(b - (joints ? 2 : 1)) + " 0 1 1 1 1 1 3<"), std::string::npos);
+      EXPECT_NE(block.find(">0 " + std::to_string(b - member_blocks - (joints ? 1 : 0)) + " 0 1 1 1 1 1 3<"),
+                std::string::npos);
     }
 
     const std::regex item("<DataItem Dimensions=\"([0-9 ]+)\"([^>]*)Format=\"HDF\">([^<:]+):([^<]+)</DataItem>");
@@ -303,11 +312,11 @@ void expect_xdmf_matches(const fs::path& xdmf, hid_t h5, const std::vector<doubl
       H5Tclose(type);
       H5Dclose(ds);
     }
-    EXPECT_EQ(references, (constraint ? 3 : references_per_grid.at(blocks[b])) * static_cast<int>(times.size()));
+    EXPECT_EQ(references, (constraint ? 3 : references_per_grid.at(kind)) * static_cast<int>(times.size()));
   }
   const std::regex function("<DataItem ItemType=\"Function\" Function=\"\\$0 - \\$1\" Dimensions=\"1 [0-9]+ 3\">");
   EXPECT_EQ(std::distance(std::sregex_iterator(text.begin(), text.end(), function), std::sregex_iterator()),
-            static_cast<long>(times.size()));
+            static_cast<long>(times.size() * member_blocks));
 }
 
 /// The model's constraint names, in order.
@@ -347,7 +356,7 @@ TEST(ResultWriter, RoundTripOfThreeSteps) {
   ASSERT_GE(f.id, 0);
   EXPECT_EQ(string_attribute(f.id, "generator"), "latticedyn");
   EXPECT_EQ(string_attribute(f.id, "title"), model.title);
-  EXPECT_EQ(int_attribute(f.id, "format_version"), 2);
+  EXPECT_EQ(int_attribute(f.id, "format_version"), 3);
 
   const std::vector<double> times{0.0, 0.1, 0.2};
   EXPECT_EQ(read<double>(f.id, "/time").v, times);
@@ -691,7 +700,7 @@ bodies:
 TEST(Xdmf, ConstraintsAreNamedBlocksUpToALimit) {
   for (const int n : {3, io::kMaxNamedConstraints, io::kMaxNamedConstraints + 1}) {
     SCOPED_TRACE(n);
-    io::XdmfLayout layout{"r.h5", "t", 4, 2, 5, n, {}};
+    io::XdmfLayout layout{"r.h5", "t", 4, 2, 5, n, {}, {}};
     for (int c = 0; c < n; ++c) layout.constraint_names.push_back("c<" + std::to_string(c) + ">");
     io::XdmfDocument doc(layout);
     doc.add_step(0.0);
@@ -707,6 +716,98 @@ TEST(Xdmf, ConstraintsAreNamedBlocksUpToALimit) {
     EXPECT_EQ(x.find("<Grid Name=\"c&lt;0&gt;\" GridType=\"Collection\" CollectionType=\"Temporal\">") != std::string::npos,
               named);
   }
+}
+
+// Bodies get a block each when asked, named after them, up to kMaxNamedBodies; beyond, or
+// not asked (no bodies in the layout), one "members" block of all.
+TEST(Xdmf, BodiesAreNamedBlocksUpToALimit) {
+  for (const int n : {0, 1, io::kMaxNamedBodies, io::kMaxNamedBodies + 1}) {
+    SCOPED_TRACE(n);
+    io::XdmfLayout layout{"r.h5", "t", 2 * n + 2, n + 1, 0, 0, {}, {}};
+    for (int b = 0; b < n; ++b) layout.bodies.push_back(io::XdmfBody{"b&" + std::to_string(b), b, 1, 2 * b, 2});
+    io::XdmfDocument doc(layout);
+    doc.add_step(0.0);
+    doc.add_step(0.5);
+    const std::string x = doc.text();
+    expect_well_formed(x);
+    const bool named = n >= 1 && n <= io::kMaxNamedBodies;
+    EXPECT_EQ(layout.names_bodies(), named);
+    EXPECT_EQ(x.find("<Grid Name=\"members\" GridType=\"Collection\" CollectionType=\"Spatial\">") != std::string::npos,
+              named);
+    EXPECT_EQ(x.find("<Grid Name=\"members\" GridType=\"Collection\" CollectionType=\"Temporal\">") != std::string::npos,
+              !named);
+    EXPECT_EQ(x.find("<Grid Name=\"b&amp;0\" GridType=\"Collection\" CollectionType=\"Temporal\">") != std::string::npos,
+              named);
+    if (named) {  // the last body: its line (row n - 1 of n + 1) and its two points from 2 n - 2
+      const std::string last = std::to_string(n - 1), point = std::to_string(2 * n - 2);
+      EXPECT_NE(x.find(">" + last + " 0 1 1 1 2</DataItem>"), std::string::npos);
+      EXPECT_NE(x.find(">1 " + point + " 0 1 1 1 1 2 3</DataItem>"), std::string::npos);
+      EXPECT_NE(x.find(">1 " + last + " 1 1 1 1</DataItem>"), std::string::npos);  // its axial force at step 1
+    }
+  }
+}
+
+// With output.body_blocks, each drawn body is a block of its own named after it: its rows of the
+// /viz datasets, its cells numbered from its first point (/viz/body_lines).
+TEST(ResultWriter, BodyBlocksNameEachBodyAndSelectItsRows) {
+  ScratchDir dir;
+  Recording run(testing::kitchen_sink_model(), 2);
+  const Model& model = run.model;
+  ResultWriterOptions options{dir.path.string(), "results", {}, {}};
+  options.body_blocks = true;
+  ResultWriter writer(model, options);
+  for (const auto& s : run.states) writer.append(s);
+  writer.close();
+
+  H5File f(writer.h5_path());
+  const auto lines = read<int>(f.id, "/viz/lines"), local = read<int>(f.id, "/viz/body_lines");
+  const auto body = read<int>(f.id, "/viz/body");
+  ASSERT_EQ(local.dims, lines.dims);
+  // The drawn bodies in line order, each one run of lines.
+  std::vector<std::string> names;
+  std::vector<std::size_t> first{0};
+  for (std::size_t l = 0; l < body.v.size(); ++l)
+    if (l > 0 && body.v[l] != body.v[l - 1]) first.push_back(l);
+  first.push_back(body.v.size());
+  ASSERT_GE(first.size(), 4u);  // at least three bodies drawn
+  const std::string text = slurp(writer.xdmf_path());
+  for (std::size_t i = 0; i + 1 < first.size(); ++i) {
+    const std::size_t from = first[i], to = first[i + 1];
+    names.push_back(model.bodies[body.v[from]].name);
+    SCOPED_TRACE(names.back());
+    int lo = lines.v[2 * from], hi = lo;
+    for (std::size_t k = 2 * from; k < 2 * to; ++k) {
+      lo = std::min(lo, lines.v[k]);
+      hi = std::max(hi, lines.v[k]);
+    }
+    for (std::size_t k = 2 * from; k < 2 * to; ++k) EXPECT_EQ(local.v[k] + lo, lines.v[k]);
+    const std::string count = std::to_string(to - from), points = std::to_string(hi - lo + 1);
+    // Its block selects its cells and, at every step, its points.
+    EXPECT_NE(text.find(">" + std::to_string(from) + " 0 1 1 " + count + " 2</DataItem>"), std::string::npos);
+    for (int step : {0, 1})
+      EXPECT_NE(text.find(">" + std::to_string(step) + " " + std::to_string(lo) + " 0 1 1 1 1 " + points + " 3</DataItem>"),
+                std::string::npos);
+  }
+  expect_xdmf_matches(writer.xdmf_path(), f.id, {0.0, 0.1}, true, constraint_names(model), names);
+}
+
+// A body whose lines come in two runs cannot be a block of its own without copying its data: the
+// ranges are then empty (and the XDMF draws one block of all).
+TEST(VizGeometry, BodyRangesNeedEachBodysLinesInOneRun) {
+  Recording run(testing::kitchen_sink_model(), 1);
+  const auto ranges = io::VizGeometry::plan(run.states[0]).body_ranges();
+  ASSERT_GE(ranges.size(), 2u);
+  int lines = 0;
+  for (const auto& r : ranges) {
+    EXPECT_EQ(r.first_line, lines);
+    lines += r.lines;
+  }
+  EXPECT_EQ(lines, io::VizGeometry::plan(run.states[0]).num_lines());
+  // The first element given to the body of the last one drawn: that body now has two runs.
+  std::size_t e = 0;
+  while (run.model.elements[e].body != ranges[0].body) ++e;
+  run.model.elements[e].body = ranges.back().body;
+  EXPECT_TRUE(io::VizGeometry::plan(run.states[0]).body_ranges().empty());
 }
 
 TEST(ResultWriter, ANewRunTruncatesTheFilesOfTheLast) {
