@@ -3,19 +3,20 @@
 # (find_package(latticedyn), target latticedyn::latticedyn) and a pkg-config file in place.
 include(CMakePackageConfigHelpers)
 
-# Everything a program needs, in one target: every layer (the driver's simulation flow on top).
+# Everything a program needs, in one target: every layer (the driver's simulation flow and the
+# facade, api/simulator.hpp, on top).
 add_library(latticedyn_library INTERFACE)
-target_link_libraries(latticedyn_library INTERFACE latticedyn_driver)
+target_link_libraries(latticedyn_library INTERFACE latticedyn_api)
 set_target_properties(latticedyn_library PROPERTIES EXPORT_NAME latticedyn)
 add_library(latticedyn::latticedyn ALIAS latticedyn_library)
 
 set(_layers latticedyn_core latticedyn_control latticedyn_elements latticedyn_assembly latticedyn_timestepping latticedyn_io
-            latticedyn_driver)
+            latticedyn_driver latticedyn_api)
 install(TARGETS ${_layers} latticedyn_library latticedyn_options latticedyn_metis
         EXPORT latticedynTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
 install(TARGETS latticedyn RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
-foreach(layer core control elements assembly timestepping io drivers)
+foreach(layer core control elements assembly timestepping io drivers api)
   install(DIRECTORY ${PROJECT_SOURCE_DIR}/${layer}/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/latticedyn/${layer}
           FILES_MATCHING PATTERN "*.hpp")
 endforeach()

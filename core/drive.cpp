@@ -58,12 +58,23 @@ DriveValue evaluate_kind(const drive::Sum& p, double t) {
   return total;
 }
 
+DriveValue evaluate_kind(const drive::External& p, double t) {
+  const drive::ExternalSignal& s = *p.signal;
+  const double tau = t - s.t0;
+  return {s.value + tau * (s.rate + 0.5 * tau * s.accel), s.rate + tau * s.accel, s.accel};
+}
+
 template <class P>
 DriveValue evaluate_kind(const P& p, double t) {
   return evaluate_profile(p, t);
 }
 
 std::string describe_kind(const drive::Constant& p) { return "constant " + fmt(p.value); }
+
+std::string describe_kind(const drive::External& p) {
+  return "external (set by the program running the model), " + fmt(p.signal->value) + " at t = " +
+         fmt(p.signal->t0) + " s, rate " + fmt(p.signal->rate) + ", acceleration " + fmt(p.signal->accel);
+}
 
 std::string describe_kind(const drive::TrapezoidalVelocity& p) {
   return "trapezoidal velocity from " + fmt(p.initial) + " by " + fmt(p.distance) + " over [" +
@@ -181,6 +192,17 @@ Drive::Drive(const Table& p)
 
 Drive::Drive(Sum p) : kind_(std::move(p)) {
   if (std::get<Sum>(kind_).terms.empty()) fail("Sum", "needs at least one term");
+}
+
+Drive::Drive(External p) : kind_(p) {
+  if (!p.signal) fail("External", "needs a signal");
+  for (const double v : {p.signal->t0, p.signal->value, p.signal->rate, p.signal->accel})
+    require_finite("External", "every field of its signal", v);
+}
+
+drive::ExternalSignal* Drive::external_signal() const {
+  const auto* e = std::get_if<External>(&kind_);
+  return e ? e->signal.get() : nullptr;
 }
 
 DriveValue Drive::evaluate(double t) const {

@@ -27,6 +27,7 @@ class Drive {
   using Sine = drive::Sine;
   using Table = drive::Table;
   using Sum = drive::Sum;
+  using External = drive::External;
 
   /// The zero drive, Constant{0}.
   Drive();
@@ -49,6 +50,11 @@ class Drive {
   Drive(const Table& p);
   /// @throws std::invalid_argument if there are no terms.
   Drive(Sum p);
+  /// @throws std::invalid_argument without a signal or with a signal not finite.
+  Drive(External p);
+
+  /// The signal of an External drive, nullptr for every other kind.
+  [[nodiscard]] drive::ExternalSignal* external_signal() const;
 
   /// Value, rate and acceleration at time t.
   [[nodiscard]] DriveValue evaluate(double t) const;
@@ -59,7 +65,7 @@ class Drive {
  private:
   // A table is kept as its spline (which keeps the points), so the system is solved only once.
   std::variant<Constant, TrapezoidalVelocity, CosineStep, CosineFull, TanhStep, Sine, CubicSpline,
-               Sum>
+               Sum, External>
       kind_;
 };
 

@@ -2,6 +2,7 @@
 // Plain aggregates; Drive (core/drive.hpp) validates them and is what the rest of the code uses.
 #pragma once
 
+#include <memory>
 #include <vector>
 
 namespace latticedyn {
@@ -77,6 +78,23 @@ struct Table {
   std::vector<double> times;
   std::vector<double> values;
   bool zero_end_rates = true;
+};
+
+/// A drive set from outside the model, by the program that runs it (a controller, a learning
+/// agent: api/simulator.hpp): from time t0 on, value + rate (t - t0) + accel (t - t0)^2 / 2, so
+/// that a new rate or acceleration, set at the current time, keeps the value (and with an
+/// acceleration the rate) continuous. Shared by every copy of the drive (a rope keeps its own
+/// copy), which all follow the one signal.
+struct ExternalSignal {
+  double t0 = 0.0;
+  double value = 0.0;
+  double rate = 0.0;
+  double accel = 0.0;
+};
+
+/// The drive of an ExternalSignal; until the program sets it, it holds `signal->value`.
+struct External {
+  std::shared_ptr<ExternalSignal> signal;
 };
 
 /// Sum of several drives, e.g. the successive trapezoidal stages of a combined crane motion

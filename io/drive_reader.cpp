@@ -16,8 +16,14 @@ constexpr int kMaxDriveFunctions = 1000;
 Drive read_counted(const InputNode& n, int* functions);
 
 Drive make(const InputNode& n, int* functions) {
-  const std::string type =
-      n["type"].as_choice({"constant", "trapezoidal", "cosine_step", "cosine_full", "tanh", "sine", "table", "sum"});
+  const std::string type = n["type"].as_choice(
+      {"constant", "trapezoidal", "cosine_step", "cosine_full", "tanh", "sine", "table", "sum", "external"});
+  if (type == "external") {
+    // Set by the program running the model (api/simulator.hpp); the command line holds it.
+    if (*functions > 1) n.fail("an external drive of its own, not a term of a sum (a program sets it by its name)");
+    n.allow_only({"type", "initial"});
+    return Drive::External{std::make_shared<drive::ExternalSignal>(drive::ExternalSignal{0.0, n.get_double("initial", 0.0), 0.0, 0.0})};
+  }
   if (type == "constant") {
     n.allow_only({"type", "value"});
     return Drive::Constant{n["value"].as_double()};

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The dependency direction core <- elements <- assembly <- timestepping <- io <- drivers, with control
+"""The dependency direction core <- elements <- assembly <- timestepping <- io <- drivers <- api, with control
 beside them (core <- control <- io), checked on every #include "layer/..." of every source and
 header: a file may include its own layer and the layers below it, never one above or beside. Run by ctest (`layering`); prints each violation as
 file:line: what it includes, and exits 1 if there is one.
@@ -10,7 +10,7 @@ import pathlib
 import re
 import sys
 
-ORDER = ["core", "elements", "assembly", "timestepping", "control", "io", "drivers"]
+ORDER = ["core", "elements", "assembly", "timestepping", "control", "io", "drivers", "api"]
 # What each layer may include: itself and the layers below it. control (the optimal control's
 # numerics) knows no model, so neither elements, assembly nor timestepping.
 BELOW = {"core": {"core"},
@@ -19,7 +19,8 @@ BELOW = {"core": {"core"},
          "timestepping": {"core", "elements", "assembly", "timestepping"},
          "control": {"core", "control"},
          "io": {"core", "elements", "assembly", "timestepping", "control", "io"},
-         "drivers": set(ORDER)}
+         "drivers": set(ORDER) - {"api"},
+         "api": set(ORDER)}
 # Above every library layer: may include any of them.
 TOP = {"verification", "benchmarks", "tests"}
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([a-z_]+)/')

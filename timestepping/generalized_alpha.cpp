@@ -290,6 +290,7 @@ PetscErrorCode GeneralizedAlphaIntegrator::post_step(TS ts) {
     PetscCall(TSGetTimeStep(ts, &dt));
     if (dt < self->settings_.time_step) PetscCall(TSSetTimeStep(ts, self->settings_.time_step));
   }
+  PetscCall(self->land_on_end());
   // A stop asked for at the last monitor: here, after TSStep (which resets the reason) and before
   // TSSolve looks at it, so the run ends after this step.
   if (self->report_->interrupted) PetscCall(TSSetConvergedReason(ts, TS_CONVERGED_USER));
@@ -300,6 +301,18 @@ PetscErrorCode GeneralizedAlphaIntegrator::post_step(TS ts) {
     self->reuse_count_ = self->settings_.jacobian_reuse;  // the old Jacobian is in the old coordinates
     ++self->report_->rotation_rescales;
   }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode GeneralizedAlphaIntegrator::land_on_end() {
+  PetscReal t, dt, t_max;
+  PetscFunctionBeginUser;
+  PetscCall(TSGetTime(ts_, &t));
+  PetscCall(TSGetTimeStep(ts_, &dt));
+  PetscCall(TSGetMaxTime(ts_, &t_max));
+  // TSALPHA2 without adaptivity steps past the end (PETSc's exact-final-time option shortens only
+  // through an adaptor); a step that would overshoot by more than round-off is cut to land on it.
+  if (t < t_max && t + dt > t_max + 1e-9 * dt) PetscCall(TSSetTimeStep(ts_, t_max - t));
   PetscFunctionReturn(0);
 }
 
@@ -356,8 +369,7 @@ PetscErrorCode GeneralizedAlphaIntegrator::run(Vec U, Vec V, StepObserver* obser
   PetscReal t_begin, t_end;  // -ts_max_time and the like may have changed them
   PetscCall(TSGetTime(ts_, &t_begin));
   PetscCall(TSGetMaxTime(ts_, &t_end));
-  checkpoints_ = CheckpointSchedule(settings_.checkpoint_interval, t_begin, t_end);
-  const auto start = std::chrono::steady_clock::now();
+  checkpoints_ = CheckpointSchedule(settings_.checkpoint_interval, t_begin, t_end, !open_end_);
   if (resume) {
     PetscCall(TSSetStepNumber(ts_, resume->step));
     PetscCall(TSSetTimeStep(ts_, resume->next_time_step));
@@ -368,13 +380,38 @@ PetscErrorCode GeneralizedAlphaIntegrator::run(Vec U, Vec V, StepObserver* obser
     rejection_offset_ = resume->rejected_steps;
     resumed_step_ = true;
   }
+  PetscCall(solve(U, V, report));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode GeneralizedAlphaIntegrator::continue_to(double t_end, Vec U, Vec V, StepObserver* observer,
+                                                       DynamicReport* report) {
+  PetscFunctionBeginUser;
+  const PrefixedOptions options(kDynamicPrefix);
+  observer_ = observer;
+  report_ = report;
+  report->completed = false;
+  PetscReal t_now;
+  PetscCall(TSGetTime(ts_, &t_now));
+  PetscCall(TSSetMaxTime(ts_, t_end));
+  checkpoints_ = CheckpointSchedule(settings_.checkpoint_interval, t_now, t_end, !open_end_);
+  // TSSolve's first monitor call shows the state the last call ended with, which was recorded.
+  resumed_step_ = true;
+  PetscCall(solve(U, V, report));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode GeneralizedAlphaIntegrator::solve(Vec U, Vec V, DynamicReport* report) {
+  PetscFunctionBeginUser;
+  const auto start = std::chrono::steady_clock::now();
   PetscCall(TS2SetSolution(ts_, U, V));
+  PetscCall(land_on_end());
   PetscCall(TSSolve(ts_, U));
   Vec Uend, Vend;
   PetscCall(TS2GetSolution(ts_, &Uend, &Vend));
   PetscCall(VecCopy(Uend, U));
   PetscCall(VecCopy(Vend, V));
-  report->wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  report->wall_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   report->jacobians = jacobians_;
 
   TSConvergedReason reason;

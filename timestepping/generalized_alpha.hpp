@@ -33,9 +33,25 @@ class GeneralizedAlphaIntegrator {
   PetscErrorCode run(Vec U, Vec V, StepObserver* observer, DynamicReport* report, const ResumePoint* resume = nullptr,
                      Vec acceleration = nullptr);
 
+  /// Whether the end of run() restarts the integrator as a checkpoint does (the default: a run
+  /// continued from its last checkpoint then goes on identically) or leaves it running for
+  /// continue_to().
+  void set_open_end(bool open) { open_end_ = open; }
+  /// Continues the last run() (open-ended, set_open_end) or continue_to() to t_end: TSALPHA2 keeps
+  /// its acceleration and the Jacobian, so the steps are those of one run to the last end but for
+  /// the step before each end, shortened to land on it. U, V: as the last call left them.
+  /// `report` goes on counting from where the last call left it.
+  PetscErrorCode continue_to(double t_end, Vec U, Vec V, StepObserver* observer, DynamicReport* report);
+  /// The acceleration estimate at the last accepted step (what a checkpoint keeps).
+  Vec acceleration_estimate() const { return A_est_; }
+
   TS ts() const { return ts_; }
 
  private:
+  /// TSSolve from U, V to the TS's end time, then the report's ending (completed, or what failed).
+  PetscErrorCode solve(Vec U, Vec V, DynamicReport* report);
+  /// Shortens the next step where it would pass the TS's end time.
+  PetscErrorCode land_on_end();
   static PetscErrorCode i2function(TS ts, PetscReal t, Vec U, Vec V, Vec A, Vec F, void* ctx);
   static PetscErrorCode i2jacobian(TS ts, PetscReal t, Vec U, Vec V, Vec A, PetscReal shift_v, PetscReal shift_a, Mat J,
                                    Mat P, void* ctx);
@@ -55,6 +71,7 @@ class GeneralizedAlphaIntegrator {
   long jacobians_ = 0;                                  // Jacobians assembled in the run
   std::string domain_error_;  // the last failed evaluation: an element outside its domain, or an exception caught
   CheckpointSchedule checkpoints_;
+  bool open_end_ = false;      // the end of a run is no checkpoint (set_open_end)
   bool resumed_step_ = false;  // the first monitor call shows the checkpoint's step: not recorded again
   long rejection_offset_ = 0, iteration_offset_ = 0;  // counted before the checkpoint
   PetscBool predictor_ = PETSC_TRUE;                    // -dyn_predictor: Newton starts from a Taylor guess

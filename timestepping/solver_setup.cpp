@@ -173,8 +173,8 @@ PetscErrorCode record_step(SystemAssembler& sa, const StepInfo& info, DynamicRep
   PetscFunctionReturn(0);
 }
 
-CheckpointSchedule::CheckpointSchedule(double interval, double t_start, double t_end)
-    : interval_(interval), t_end_(t_end), next_(next_after(t_start)) {}
+CheckpointSchedule::CheckpointSchedule(double interval, double t_start, double t_end, bool end_is_checkpoint)
+    : interval_(interval), t_end_(t_end), next_(next_after(t_start)), end_is_checkpoint_(end_is_checkpoint) {}
 
 double CheckpointSchedule::next_after(double t) const {
   if (interval_ <= 0.0) return std::numeric_limits<double>::infinity();
@@ -184,7 +184,7 @@ double CheckpointSchedule::next_after(double t) const {
 
 bool CheckpointSchedule::due(double t, bool stopping) {
   const double eps = 1e-9 * std::max(1.0, std::abs(t));
-  if (stopping || t >= t_end_ - eps) return true;
+  if (stopping || (end_is_checkpoint_ && t >= t_end_ - eps)) return true;
   if (t < next_ - eps) return false;
   next_ = next_after(t);
   return true;

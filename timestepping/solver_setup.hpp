@@ -75,13 +75,16 @@ class StepObserver {
 /// checkpoint builds its schedule from the checkpoint's time and meets the same grid.
 class CheckpointSchedule {
  public:
-  CheckpointSchedule(double interval = 0.0, double t_start = 0.0, double t_end = 0.0);
+  /// `end_is_checkpoint`: the run's end is one (false: a run that will be continued, as the
+  /// library's Simulator::advance does, goes on without a restart there).
+  CheckpointSchedule(double interval = 0.0, double t_start = 0.0, double t_end = 0.0, bool end_is_checkpoint = true);
   /// Whether the state at t (after an accepted step) is a checkpoint; moves on past t if so.
   bool due(double t, bool stopping);
 
  private:
   double next_after(double t) const;
   double interval_, t_end_, next_;
+  bool end_is_checkpoint_;
 };
 
 /// After an accepted step: updates the report (time, steps, iterations, rejections, the largest
