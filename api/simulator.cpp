@@ -3,11 +3,15 @@
 #include "api/simulator.hpp"
 
 #include "drivers/simulation.hpp"
+#include "io/linear_model_file.hpp"
 #include "io/model_reader.hpp"
 #include "timestepping/generalized_alpha.hpp"
+#include "timestepping/linearization.hpp"
+#include "timestepping/modal_analysis.hpp"
 #include "timestepping/static_solver.hpp"
 
 #include <petscsys.h>
+#include <slepcsys.h>
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
@@ -43,15 +47,17 @@ std::vector<KeyOverride> key_overrides(const std::vector<Override>& overrides, c
 Runtime::Runtime() : Runtime(nullptr, nullptr) {}
 
 Runtime::Runtime(int* argc, char*** argv) {
+  // SLEPc (natural frequencies) needs its own initialisation; it starts PETSc unless the program
+  // did, and its finalisation ends only what it started.
   PetscBool up = PETSC_FALSE;
-  PetscInitialized(&up);
+  SlepcInitialized(&up);
   if (up) return;
-  check(PetscInitialize(argc, argv, nullptr, nullptr), "initialise");
+  check(SlepcInitialize(argc, argv, nullptr, nullptr), "initialise");
   owner_ = true;
 }
 
 Runtime::~Runtime() {
-  if (owner_) PetscFinalize();
+  if (owner_) SlepcFinalize();
 }
 
 struct Simulator::Impl {
@@ -267,6 +273,46 @@ std::vector<double> Simulator::probes() const {
 }
 
 std::vector<double> Simulator::coordinates() const { return impl_->in_model_order(impl_->U); }
+
+LinearModel Simulator::linearize(const std::vector<std::string>& inputs) const {
+  const Impl& m = *impl_;
+  std::vector<int> drives;
+  for (const std::string& name : inputs) {
+    m.external(name);  // an external drive, or a clear error
+    drives.push_back(m.drive(name));
+  }
+  Vec A;
+  check(VecDuplicate(m.U, &A), "create a vector");
+  if (m.integrator) check(VecCopy(m.integrator->acceleration_estimate(), A), "copy the acceleration");
+  else if (m.resume) check(VecCopy(m.A, A), "copy the acceleration");
+  else check(VecZeroEntries(A), "zero the acceleration");
+  try {
+    LinearModel lm = latticedyn::linearize(*m.sa, m.U, m.V, A, m.time, drives, m.sim.output.probe_joints);
+    VecDestroy(&A);
+    return lm;
+  } catch (...) {
+    VecDestroy(&A);
+    throw;
+  }
+}
+
+void Simulator::write_linear_model(const std::string& path, const LinearModel& model) {
+  io::write_linear_model(path, model);
+}
+
+std::vector<double> Simulator::natural_frequencies(int count) const {
+  const Impl& m = *impl_;
+  if (count < 1) throw std::invalid_argument("Simulator::natural_frequencies: expected a count >= 1, got " + std::to_string(count));
+  ModalAnalysis modal(*m.sa, ModalSettings{count, 1e-10});
+  std::vector<Mode> modes;
+  std::string message;
+  check(modal.solve(m.U, m.time, &modes, &message), "solve the eigenproblem");
+  std::vector<double> hz;
+  for (const Mode& mode : modes) hz.push_back(mode.frequency);
+  destroy_modes(modes);
+  if (static_cast<int>(hz.size()) < count) throw SolverError("Simulator: " + message);
+  return hz;
+}
 
 SimulatorState Simulator::save_state() const {
   const Impl& m = *impl_;

@@ -4,6 +4,7 @@
 
 #include "assembly/model_state.hpp"
 #include "core/drive_params.hpp"
+#include "timestepping/linear_model.hpp"
 
 #include <memory>
 #include <stdexcept>
@@ -12,8 +13,8 @@
 
 namespace latticedyn {
 
-/// PETSc (and MPI) for a program that uses the library. The first Runtime of a process initialises
-/// them, unless the program did; it finalises what it initialised when it goes. Its arguments are
+/// PETSc, SLEPc (and MPI) for a program that uses the library. The first Runtime of a process
+/// initialises them, unless the program did; it finalises what it initialised when it goes. Its arguments are
 /// PETSc options (-dyn_snes_monitor, -log_view, ...), as on the command line.
 class Runtime {
  public:
@@ -123,6 +124,17 @@ class Simulator {
   std::vector<double> probes() const;
   /// The coordinate vector in model order, as results record it (/state/coordinates).
   std::vector<double> coordinates() const;
+
+  /// The model linearised about the current state (a static equilibrium, or a state of a run: its
+  /// velocities and the integrator's acceleration estimate), reduced to independent coordinates:
+  /// inputs the accelerations of the external drives `inputs`, outputs the probe joints'
+  /// positions and velocities (LinearModel). Dense, for models of up to a few thousand unknowns.
+  LinearModel linearize(const std::vector<std::string>& inputs) const;
+  /// Writes a linear model as HDF5 (io/linear_model_file.hpp).
+  static void write_linear_model(const std::string& path, const LinearModel& model);
+  /// The lowest natural frequencies (Hz) about the current state, which should be a static
+  /// equilibrium, as `latticedyn modes` computes them (SLEPc). Throws SolverError when fewer converge.
+  std::vector<double> natural_frequencies(int count) const;
 
   SimulatorState save_state() const;
   /// Puts the simulation back to a saved state (of this model). The integrator restarts there as

@@ -161,6 +161,26 @@ PYBIND11_MODULE(latticedyn, m) {
            })
       .def("probes", [](const PySimulator& s) { return array(s.sim.probes()); })
       .def("coordinates", [](const PySimulator& s) { return array(s.sim.coordinates()); })
+      .def(
+          "linearize",
+          [](const PySimulator& s, const std::vector<std::string>& inputs) {
+            const latticedyn::LinearModel lm = s.sim.linearize(inputs);
+            return py::dict(py::arg("A") = lm.A, py::arg("B") = lm.B, py::arg("C") = lm.C, py::arg("D") = lm.D,
+                            py::arg("independent") = lm.independent, py::arg("inputs") = lm.inputs,
+                            py::arg("outputs") = lm.outputs, py::arg("time") = lm.time);
+          },
+          py::arg("inputs") = std::vector<std::string>{},
+          "The linear model about the current state: a dict of A, B, C, D (numpy), independent (dim z), "
+          "inputs (drive names; w = their accelerations), outputs (probe joints' x..vz); x = [z, z', u, u'].")
+      .def(
+          "write_linear_model",
+          [](const PySimulator& s, const std::string& path, const std::vector<std::string>& inputs) {
+            Simulator::write_linear_model(path, s.sim.linearize(inputs));
+          },
+          py::arg("path"), py::arg("inputs") = std::vector<std::string>{}, "linearize(inputs) written as HDF5.")
+      .def(
+          "natural_frequencies", [](const PySimulator& s, int count) { return s.sim.natural_frequencies(count); },
+          py::arg("count") = 6, "The lowest natural frequencies (Hz) about the current (equilibrium) state.")
       .def("save_state", [](const PySimulator& s) { return s.sim.save_state(); })
       .def(
           "restore_state", [](PySimulator& s, const SimulatorState& state) { s.sim.restore_state(state); },

@@ -75,6 +75,25 @@ class ExternalDriveTest(unittest.TestCase):
         np.testing.assert_array_equal(runs[0], runs[1])
 
 
+class LinearModelTest(unittest.TestCase):
+    def test_the_linear_crane_has_the_frequencies_of_its_modes(self):
+        crane = latticedyn.Simulator(os.environ["CRANE_EXTERNAL_MODEL"])
+        crane.solve_statics()
+        lm = crane.linearize(["slewing", "hoisting"])
+        n = 2 * lm["independent"]
+        self.assertEqual(lm["A"].shape, (n + 4, n + 4))
+        self.assertEqual(lm["B"].shape, (n + 4, 2))
+        self.assertEqual(lm["C"].shape, (6, n + 4))
+        self.assertEqual(lm["outputs"][0], "load.1.x")
+        eigenvalues = np.linalg.eigvals(lm["A"][:n, :n])
+        linear = np.sort(np.abs(eigenvalues[eigenvalues.imag > 0])) / (2 * np.pi)
+        modes = np.array(crane.natural_frequencies(6))
+        # The lowest mode is a mechanism's zero (the hook block turning about its rope): compared
+        # where the frequencies are not zero.
+        linear, modes = linear[linear > 1e-3], modes[modes > 1e-3]
+        np.testing.assert_allclose(linear[:len(modes)], modes, rtol=1e-5)
+
+
 class ErrorTest(unittest.TestCase):
     def test_errors_are_python_exceptions_that_say_what_is_wrong(self):
         with self.assertRaises(latticedyn.InputError) as bad:
