@@ -10,7 +10,7 @@ packages=(
   libmetis-dev libyaml-cpp-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   clang-14 libclang-rt-14-dev libomp-14-dev
-  python3 python3-numpy python3-h5py python3-matplotlib python3-yaml python3-dev pybind11-dev python3-pybind11
+  python3 python3-numpy python3-h5py python3-matplotlib python3-yaml python3-dev pybind11-dev python3-pybind11 python3-torch
   paraview python3-paraview xvfb xauth ffmpeg libgl1-mesa-dri libglx-mesa0
 )
 
