@@ -274,13 +274,18 @@ TEST(Simulator, LinearisedCraneHasTheFrequenciesOfItsModes) {
   const std::vector<double> modes = crane.natural_frequencies(6);
   std::vector<double> linear;
   const Eigen::VectorXcd lambda = lm.mechanical_eigenvalues();
+  // The lowest mode is a mechanism's zero (the hook block turning about its rope), which comes out
+  // as a real or a complex pair at round-off: compared where the frequencies are not zero.
   for (Eigen::Index i = 0; i < lambda.size(); ++i)
-    if (lambda(i).imag() > 0) linear.push_back(std::abs(lambda(i)) / (2 * std::numbers::pi));
+    if (lambda(i).imag() > 0 && std::abs(lambda(i)) > 2 * std::numbers::pi * 1e-3)
+      linear.push_back(std::abs(lambda(i)) / (2 * std::numbers::pi));
   std::sort(linear.begin(), linear.end());
-  ASSERT_GE(linear.size(), modes.size());
-  // (The lowest is a mechanism's zero, the hook block turning about the rope: both find it.)
-  for (std::size_t k = 0; k < modes.size(); ++k)
-    EXPECT_NEAR(linear[k], modes[k], 1e-5 * std::max(modes[k], 1e-2)) << "mode " << k;
+  std::vector<double> nonzero;
+  for (double f : modes)
+    if (f > 1e-3) nonzero.push_back(f);
+  ASSERT_GE(nonzero.size(), 4u);
+  ASSERT_GE(linear.size(), nonzero.size());
+  for (std::size_t k = 0; k < nonzero.size(); ++k) EXPECT_NEAR(linear[k], nonzero[k], 1e-5 * nonzero[k]) << "mode " << k;
   // Undamped at rest: every eigenvalue on the imaginary axis.
   for (Eigen::Index i = 0; i < lambda.size(); ++i)
     EXPECT_LT(std::abs(lambda(i).real()), 1e-6 * std::max(std::abs(lambda(i)), 1.0)) << i;
