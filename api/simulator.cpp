@@ -107,11 +107,11 @@ struct Simulator::Impl {
     return index(-1, "drive", name);
   }
   drive::ExternalSignal& external(const std::string& name) const {
-    drive::ExternalSignal* s = sim.model.drives[drive(name)].external_signal();
-    if (!s)
-      throw std::invalid_argument("Simulator: drive '" + name + "' is prescribed (" + sim.model.drives[drive(name)].describe() +
+    const Drive& d = sim.model.drives[drive(name)];
+    if (!d.external_signal())
+      throw std::invalid_argument("Simulator: drive '" + name + "' is prescribed (" + d.describe() +
                                   "); only drives of type external take values from the program");
-    return *s;
+    return *d.external_signal();
   }
   std::vector<double> in_model_order(Vec X) const {
     std::vector<double> ordered;

@@ -155,51 +155,39 @@ void XdmfDocument::format_step(const std::string& step, const std::string& time_
   };
 
   const std::string lines = std::to_string(layout_.lines), points = std::to_string(layout_.points);
-  if (named_bodies_.empty()) {
-    begin_grid(members_);
-    put("          <Topology TopologyType=\"Polyline\" NodesPerElement=\"2\" NumberOfElements=\"" + lines + "\">\n");
-    put("            <DataItem Dimensions=\"" + lines + " 2\" NumberType=\"Int\" Precision=\"4\" Format=\"HDF\">" + h5 +
-        ":/viz/lines</DataItem>\n");
+  // The members' grid of `part`: the whole model reads the datasets whole; a body's block reads
+  // its rows of them, its cells numbered from its first point (/viz/body_lines).
+  auto member_grid = [&](Block& b, const XdmfBody& part, bool whole) {
+    const std::string n = std::to_string(part.points), cells = std::to_string(part.lines);
+    const std::string first_point = std::to_string(part.first_point), first_line = std::to_string(part.first_line);
+    const std::string point_rows = whole ? "" : points, line_rows = whole ? "" : lines;
+    auto rows = [&](const char* dataset, bool pairs) {  // a static integer dataset, per line
+      if (whole)
+        static_ints(cells + (pairs ? " 2" : ""), dataset);
+      else
+        static_rows(dataset, part.first_line, part.lines, layout_.lines, pairs);
+    };
+    begin_grid(b);
+    put("          <Topology TopologyType=\"Polyline\" NodesPerElement=\"2\" NumberOfElements=\"" + cells + "\">\n");
+    rows(whole ? "/viz/lines" : "/viz/body_lines", true);
     put("          </Topology>\n          <Geometry GeometryType=\"XYZ\">\n");
-    slab("/viz/points", points, true, step, "4");
+    slab("/viz/points", n, true, step, "4", first_point, point_rows);
     put("          </Geometry>\n");
     // The displacement since the first output, computed by the reader from the points (the .h5
     // does not repeat them).
     attribute("displacement [m]", true, false, [&] {
-      put("            <DataItem ItemType=\"Function\" Function=\"$0 - $1\" Dimensions=\"1 " + points + " 3\">\n");
-      slab("/viz/points", points, true, step, "4");
-      slab("/viz/points", points, true, "0", "4");
-      put("            </DataItem>\n");
-    });
-    attribute("axial_force [N]", false, true, [&] { slab("/viz/axial_force", lines, false, step); });
-    attribute("body", false, true, [&] { static_ints(lines, "/viz/body"); });
-    attribute("element", false, true, [&] { static_ints(lines, "/viz/element"); });
-    put("        </Grid>\n");
-  }
-  // A body's block: its rows of the same datasets, its cells numbered from its first point.
-  for (std::size_t b = 0; b < named_bodies_.size(); ++b) {
-    const XdmfBody& body = layout_.bodies[b];
-    const std::string n = std::to_string(body.points), cells = std::to_string(body.lines),
-                      first_point = std::to_string(body.first_point), first_line = std::to_string(body.first_line);
-    begin_grid(named_bodies_[b]);
-    put("          <Topology TopologyType=\"Polyline\" NodesPerElement=\"2\" NumberOfElements=\"" + cells + "\">\n");
-    static_rows("/viz/body_lines", body.first_line, body.lines, layout_.lines, true);
-    put("          </Topology>\n          <Geometry GeometryType=\"XYZ\">\n");
-    slab("/viz/points", n, true, step, "4", first_point, points);
-    put("          </Geometry>\n");
-    attribute("displacement [m]", true, false, [&] {
       put("            <DataItem ItemType=\"Function\" Function=\"$0 - $1\" Dimensions=\"1 " + n + " 3\">\n");
-      slab("/viz/points", n, true, step, "4", first_point, points);
-      slab("/viz/points", n, true, "0", "4", first_point, points);
+      slab("/viz/points", n, true, step, "4", first_point, point_rows);
+      slab("/viz/points", n, true, "0", "4", first_point, point_rows);
       put("            </DataItem>\n");
     });
-    attribute("axial_force [N]", false, true,
-              [&] { slab("/viz/axial_force", cells, false, step, "8", first_line, lines); });
-    attribute("body", false, true, [&] { static_rows("/viz/body", body.first_line, body.lines, layout_.lines, false); });
-    attribute("element", false, true,
-              [&] { static_rows("/viz/element", body.first_line, body.lines, layout_.lines, false); });
+    attribute("axial_force [N]", false, true, [&] { slab("/viz/axial_force", cells, false, step, "8", first_line, line_rows); });
+    attribute("body", false, true, [&] { rows("/viz/body", false); });
+    attribute("element", false, true, [&] { rows("/viz/element", false); });
     put("        </Grid>\n");
-  }
+  };
+  if (named_bodies_.empty()) member_grid(members_, XdmfBody{"", 0, layout_.lines, 0, layout_.points}, true);
+  for (std::size_t b = 0; b < named_bodies_.size(); ++b) member_grid(named_bodies_[b], layout_.bodies[b], false);
 
   if (layout_.joints > 0) {
     const std::string n = std::to_string(layout_.joints);

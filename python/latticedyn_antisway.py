@@ -141,9 +141,9 @@ def bang_bang(angle, duration):
     return reference
 
 
-def tangential_sway(crane, rest):
-    """Tangential sway (m) and its rate (m/s) of the probe load in the slewed frame (as
-    latticedyn_envs.CraneSwayEnv observes it), and the radial sway."""
+def slewed_sway(crane, rest):
+    """The load's sway in the slewed frame, relative to its quasi-static position `rest` there:
+    tangential and radial sway (m), their rates (m/s); the velocity less the frame's own rotation."""
     angle, rate, _ = crane.drive("slewing")
     c, s = math.cos(angle), math.sin(angle)
     to_slewed = np.array([[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]])
@@ -152,7 +152,13 @@ def tangential_sway(crane, rest):
     d = p - rest
     radial = rest[:2] / np.linalg.norm(rest[:2])
     tangential = np.array([-radial[1], radial[0]])
-    return d[:2] @ tangential, v[:2] @ tangential, d[:2] @ radial
+    return d[:2] @ tangential, d[:2] @ radial, v[:2] @ tangential, v[:2] @ radial
+
+
+def tangential_sway(crane, rest):
+    """Tangential sway (m) and its rate (m/s) in the slewed frame, and the radial sway."""
+    st, sr, vt, _ = slewed_sway(crane, rest)
+    return st, vt, sr
 
 
 def slew(crane, reference, duration, regulator=None, period=0.1, max_acceleration=0.05):

@@ -11,6 +11,7 @@ import os
 import numpy as np
 
 import latticedyn
+import latticedyn_antisway
 
 
 class Box:
@@ -104,16 +105,7 @@ class CraneSwayEnv:
 
     def _sway(self):
         angle, rate, _ = self.sim.drive("slewing")
-        c, s = math.cos(angle), math.sin(angle)
-        to_slewed = np.array([[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]])
-        p = to_slewed @ self.sim.joint_position("load.1")
-        # The velocity seen in the slewed frame: less the frame's own rotation.
-        v = to_slewed @ self.sim.joint_velocity("load.1") - rate * np.array([-p[1], p[0], 0.0])
-        d = p - self.rest
-        radial_unit = self.rest[:2] / np.linalg.norm(self.rest[:2])
-        tangential_unit = np.array([-radial_unit[1], radial_unit[0]])
-        return (d[:2] @ tangential_unit, d[:2] @ radial_unit, v[:2] @ tangential_unit, v[:2] @ radial_unit,
-                angle - self.target, rate)
+        return (*latticedyn_antisway.slewed_sway(self.sim, self.rest), angle - self.target, rate)
 
     def _observation(self):
         st, sr, vt, vr, error, rate = self._sway()

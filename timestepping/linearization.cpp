@@ -115,7 +115,7 @@ LinearModel linearize(SystemAssembler& sa, Vec U, Vec V, Vec A, double t, const 
     for (Eigen::Index k = 0; k < nu; ++k) {
       drive::ExternalSignal& s = *signals[k];
       const drive::ExternalSignal kept = s;
-      const double value_now = s.value + (t - s.t0) * (s.rate + 0.5 * (t - s.t0) * s.accel);
+      const double value_now = model.drives[input_drives[k]].evaluate(t).value;
       const double eps = 1e-6 * std::max(1.0, std::abs(value_now));
       Eigen::VectorXd plus, minus;
       for (const double sign : {1.0, -1.0}) {
