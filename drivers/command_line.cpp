@@ -29,7 +29,7 @@ struct OptionSpec {
 
 const OptionSpec kOptions[] = {
     {"--output", "DIR", "results folder (replaces output.directory)"},
-    {"--modes", "N", "how many of the lowest natural modes (default 6)"},
+    {"--modes", "N", "how many of the lowest natural or buckling modes (default 6)"},
     {"--groups", "G", "MPI rank groups solving cases side by side (default: one per rank)"},
     {"--retry-failed", nullptr, "solve the cases a resumed batch recorded as failed again"},
     {"--restart", "FILE[:STEP]", "continue a run from the last checkpoint of FILE, or the one at STEP, exactly"},
@@ -65,6 +65,12 @@ const std::vector<CommandSpec>& commands() {
        "The equilibrium, then the lowest natural modes about it (SLEPc); writes <name>_modes.h5/.xdmf (step 0 the\n"
        "equilibrium, step k mode k) and <name>_modes.csv (frequencies), beside a run's results, not over them.\n"
        "  latticedyn modes examples/main_boom.yaml --modes 10\n"},
+      {"buckling", "static equilibrium under the loads, then the smallest load factors of linearized buckling",
+       {"--output", "--modes"},
+       "The equilibrium under the model's gravity and loads, then the load factors lambda at which lambda times\n"
+       "those loads buckle the model (linearized buckling, SLEPc; docs/theory.md); writes <name>_buckling.h5/.xdmf\n"
+       "(step 0 the equilibrium, step k buckling mode k) and <name>_buckling.csv (factors).\n"
+       "  latticedyn buckling verification/cases/buckling_column_fixed_free.yaml --modes 4\n"},
       {"batch", "the cases of a batch file (a grid or list of model changes) over MPI rank groups",
        {"--output", "--groups", "--retry-failed"},
        "Solves every case of BATCH.yaml (docs/batch.md) and writes one table; run again into the same folder to\n"
@@ -249,9 +255,12 @@ CommandLine parse_command_line(int argc, const char* const* argv) {
                        " --help lists its options)");
       }
       if (!spec || !takes(*spec, arg)) {
-        std::string owners;
+        std::vector<std::string> names;
         for (const CommandSpec& c : commands())
-          if (takes(c, arg)) owners += (owners.empty() ? "'" : ", '") + std::string(c.name) + "'";
+          if (takes(c, arg)) names.push_back("'" + std::string(c.name) + "'");
+        std::string owners;
+        for (std::size_t k = 0; k < names.size(); ++k)
+          owners += (k == 0 ? "" : k + 1 == names.size() ? " or " : ", ") + names[k];
         return failure(arg + " belongs to " + owners + ", not to '" + cl.command + "'");
       }
       const char* value = nullptr;

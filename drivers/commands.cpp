@@ -7,10 +7,12 @@
 #include "drivers/interrupt.hpp"
 #include "drivers/observers.hpp"
 #include "drivers/simulation.hpp"
+#include "timestepping/buckling_analysis.hpp"
 #include "timestepping/modal_analysis.hpp"
 
 #include <petscts.h>
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <filesystem>
@@ -401,13 +403,29 @@ int command_static(Simulation& sim, const CommandOptions& opt, MPI_Comm comm) {
   return command_solve(sim, opt, comm, true, false);
 }
 
-int command_modes(Simulation& sim, const CommandOptions& opt, MPI_Comm comm) {
+namespace {
+
+// What an analysis about the equilibrium found: a table for the terminal, rows for the CSV and
+// the shapes (velocity variables, largest entry 1) to draw. The vectors stay the caller's.
+struct EquilibriumModes {
+  std::string table, csv_header;
+  std::vector<std::string> csv_rows;
+  std::vector<Vec> shapes;
+  std::string shortfall;  ///< why fewer were found than asked for, or empty
+};
+
+using EquilibriumAnalysis =
+    std::function<PetscErrorCode(SystemAssembler&, Vec U, Vec V, SimulationOutcome*, EquilibriumModes*)>;
+
+// The equilibrium, then an eigenanalysis about it; writes <name>_<suffix>.h5/.xdmf (step 0 the
+// equilibrium, step k shape k) and <name>_<suffix>.csv beside a run's results, not over them.
+int command_equilibrium_modes(Simulation& sim, const CommandOptions& opt, MPI_Comm comm, const std::string& suffix,
+                              const EquilibriumAnalysis& analyse, const std::function<void()>& release) {
   if (!opt.output_directory.empty()) sim.output.directory = opt.output_directory;
   const auto started = Clock::now();
   print_root(comm, describe_model(sim.model));
   std::string error;
-  // Its own files beside a run's results, not over them.
-  auto writer = open_writer(sim, opt, comm, &error, std::nullopt, sim.output.name + "_modes");
+  auto writer = open_writer(sim, opt, comm, &error, std::nullopt, sim.output.name + "_" + suffix);
   if (!error.empty()) {
     error_root(comm, error);
     return kInputError;
@@ -418,19 +436,18 @@ int command_modes(Simulation& sim, const CommandOptions& opt, MPI_Comm comm) {
   PetscCallAbort(comm, sa.create_vector(&V));
   PetscCallAbort(comm, initial_state(sim, sa, U, V));
   SimulationOutcome outcome;
-  std::vector<Mode> modes;
-  std::string message;
-  PetscCallAbort(comm, equilibrium_modes(sim, sa, U, V, opt.modes, &modes, &outcome, &message));
+  EquilibriumModes found;
+  PetscCallAbort(comm, analyse(sa, U, V, &outcome, &found));
   if (!outcome.statics.converged) {
-    error_root(comm, outcome.statics.message + " (the modes need the equilibrium to linearise about)");
+    error_root(comm, outcome.statics.message + " (the " + suffix + " need the equilibrium to linearise about)");
     VecDestroy(&U);
     VecDestroy(&V);
     return kSolverFailure;
   }
   print_root(comm, outcome.statics.message + "\n");
   const double t = sim.statics.time;
-  // Output step 0: the equilibrium; step k: the equilibrium plus mode k scaled so that its largest
-  // coordinate is 5 % of the model's size (rotations included), for ParaView.
+  // Output step 0: the equilibrium; step k: the equilibrium plus shape k scaled so that its largest
+  // node displacement is 5 % of the model's size, for ParaView.
   ModelState state(sim.model, sa.dofs());
   PetscCallAbort(comm, sa.gather(t, U, V, nullptr, Parametrization::rotation_vector_rates, &state));
   double size = 1.0;
@@ -445,36 +462,110 @@ int command_modes(Simulation& sim, const CommandOptions& opt, MPI_Comm comm) {
   }
   MPI_Bcast(&size, 1, MPI_DOUBLE, 0, comm);
   if (writer) writer->append(state);
+  std::vector<Vec3> at_rest;
+  if (is_root(comm))
+    for (std::size_t b = 0; b < sim.model.blocks.size(); ++b)
+      if (sim.model.blocks[b].kind == SlotKind::translation) at_rest.push_back(state.block(static_cast<int>(b)).pos);
+  // The largest node displacement of a small multiple of the shape, per unit of that multiple.
+  const auto largest_displacement = [&](Vec shape) {
+    const double probe = 1e-6 * size;
+    PetscCallAbort(comm, VecWAXPY(W, probe, shape, U));
+    PetscCallAbort(comm, sa.gather(t, W, V, nullptr, Parametrization::rotation_vector_rates, &state));
+    double largest = 0.0;
+    if (is_root(comm)) {
+      std::size_t i = 0;
+      for (std::size_t b = 0; b < sim.model.blocks.size(); ++b)
+        if (sim.model.blocks[b].kind == SlotKind::translation)
+          largest = std::max(largest, (state.block(static_cast<int>(b)).pos - at_rest[i++]).norm());
+    }
+    MPI_Bcast(&largest, 1, MPI_DOUBLE, 0, comm);
+    return largest / probe;
+  };
   PetscCallAbort(comm, VecDuplicate(U, &W));
-  std::string table = "mode  frequency (Hz)  omega^2 (1/s^2)  relative residual\n";
-  for (std::size_t k = 0; k < modes.size(); ++k) {
-    char line[128];
-    std::snprintf(line, sizeof line, "%4zu  %14.6g  %15.6g  %.1e\n", k + 1, modes[k].frequency, modes[k].omega2,
-                  modes[k].residual);
-    table += line;
-    // The mode is in velocity variables; for the drawing add it to the coordinates (rotation
-    // vectors, equal to first order near the reference orientation).
-    PetscCallAbort(comm, VecWAXPY(W, 0.05 * size, modes[k].vector, U));
+  for (std::size_t k = 0; k < found.shapes.size(); ++k) {
+    // The shape is in velocity variables; for the drawing add it to the coordinates (rotation
+    // vectors, equal to first order near the reference orientation), so that its largest node
+    // displacement is 5 % of the model's size (a shape that moves no node, e.g. a spin: its
+    // largest coordinate).
+    const double per_unit = largest_displacement(found.shapes[k]);
+    const double amplitude = 0.05 * size / (per_unit > 1e-9 ? per_unit : 1.0);
+    PetscCallAbort(comm, VecWAXPY(W, amplitude, found.shapes[k], U));
     PetscCallAbort(comm, sa.gather(static_cast<double>(k + 1), W, V, nullptr, Parametrization::rotation_vector_rates, &state));
     if (writer) writer->append(state);
   }
+  std::string table = found.table;
   if (writer && is_root(comm)) {
-    const auto csv = writer->h5_path().parent_path() / (sim.output.name + "_modes.csv");
+    const auto csv = writer->h5_path().parent_path() / (sim.output.name + "_" + suffix + ".csv");
     std::ofstream f(csv);
-    f << "mode,frequency_hz,omega2\n";
-    for (std::size_t k = 0; k < modes.size(); ++k) f << k + 1 << "," << modes[k].frequency << "," << modes[k].omega2 << "\n";
-    table += "frequencies: " + csv.string() + "\n";
+    f << found.csv_header << "\n";
+    for (const std::string& row : found.csv_rows) f << row << "\n";
+    table += "table: " + csv.string() + "\n";
   }
-  if (static_cast<int>(modes.size()) < opt.modes) table += "warning: " + message + "\n";
+  if (!found.shortfall.empty()) table += "warning: " + found.shortfall + "\n";
   char wall[64];
-  std::snprintf(wall, sizeof wall, "modes: wall %.3g s\n", seconds_since(started));
-  print_root(comm, table + "mode shapes: output steps 1.." + std::to_string(modes.size()) +
+  std::snprintf(wall, sizeof wall, "%s: wall %.3g s\n", suffix.c_str(), seconds_since(started));
+  print_root(comm, table + "shapes: output steps 1.." + std::to_string(found.shapes.size()) +
                        " (step 0: the equilibrium), 5 % of the model's size\n" + wall + where_results(writer.get()));
-  destroy_modes(modes);
+  release();
   VecDestroy(&U);
   VecDestroy(&V);
   VecDestroy(&W);
   return kSuccess;
+}
+
+}  // namespace
+
+int command_modes(Simulation& sim, const CommandOptions& opt, MPI_Comm comm) {
+  std::vector<Mode> modes;
+  const auto analyse = [&](SystemAssembler& sa, Vec U, Vec V, SimulationOutcome* outcome, EquilibriumModes* out) {
+    PetscFunctionBeginUser;
+    std::string message;
+    PetscCall(equilibrium_modes(sim, sa, U, V, opt.modes, &modes, outcome, &message));
+    out->table = "mode  frequency (Hz)  omega^2 (1/s^2)  relative residual\n";
+    out->csv_header = "mode,frequency_hz,omega2";
+    for (std::size_t k = 0; k < modes.size(); ++k) {
+      char line[128];
+      std::snprintf(line, sizeof line, "%4zu  %14.6g  %15.6g  %.1e\n", k + 1, modes[k].frequency, modes[k].omega2,
+                    modes[k].residual);
+      out->table += line;
+      std::snprintf(line, sizeof line, "%zu,%.10g,%.10g", k + 1, modes[k].frequency, modes[k].omega2);
+      out->csv_rows.push_back(line);
+      out->shapes.push_back(modes[k].vector);
+    }
+    if (static_cast<int>(modes.size()) < opt.modes) out->shortfall = message;
+    PetscFunctionReturn(0);
+  };
+  return command_equilibrium_modes(sim, opt, comm, "modes", analyse, [&] { destroy_modes(modes); });
+}
+
+int command_buckling(Simulation& sim, const CommandOptions& opt, MPI_Comm comm) {
+  std::vector<BucklingMode> modes;
+  const auto analyse = [&](SystemAssembler& sa, Vec U, Vec V, SimulationOutcome* outcome, EquilibriumModes* out) {
+    PetscFunctionBeginUser;
+    std::string message;
+    PetscCall(equilibrium_buckling(sim, sa, U, V, opt.modes, &modes, outcome, &message));
+    out->table = "mode  load factor     relative residual\n";
+    out->csv_header = "mode,load_factor";
+    for (std::size_t k = 0; k < modes.size(); ++k) {
+      char line[128];
+      std::snprintf(line, sizeof line, "%4zu  %14.8g  %.1e%s\n", k + 1, modes[k].factor, modes[k].residual,
+                    modes[k].factor < 0 ? "  (the loads reversed)" : "");
+      out->table += line;
+      std::snprintf(line, sizeof line, "%zu,%.10g", k + 1, modes[k].factor);
+      out->csv_rows.push_back(line);
+      out->shapes.push_back(modes[k].vector);
+    }
+    const auto critical = std::find_if(modes.begin(), modes.end(), [](const BucklingMode& m) { return m.factor > 0; });
+    if (critical != modes.end()) {
+      char line[160];
+      std::snprintf(line, sizeof line, "critical load factor %.8g (mode %td): the loads times it buckle the model\n",
+                    critical->factor, critical - modes.begin() + 1);
+      out->table += line;
+    }
+    if (static_cast<int>(modes.size()) < opt.modes) out->shortfall = message;
+    PetscFunctionReturn(0);
+  };
+  return command_equilibrium_modes(sim, opt, comm, "buckling", analyse, [&] { destroy_modes(modes); });
 }
 
 int command_run(Simulation& sim, const CommandOptions& opt, MPI_Comm comm) {

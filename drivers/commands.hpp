@@ -1,6 +1,6 @@
 // The commands of the latticedyn executable: check (validate and describe a model), static
-// (equilibrium), run (equilibrium if asked, then dynamics), modes (natural frequencies). Each
-// returns the process exit code.
+// (equilibrium), run (equilibrium if asked, then dynamics), modes (natural frequencies), buckling
+// (load factors). Each returns the process exit code.
 #pragma once
 
 #include "drivers/exit_codes.hpp"
@@ -16,7 +16,7 @@ namespace latticedyn {
 struct CommandOptions {
   std::string model_path;
   std::string output_directory;  ///< overrides output.directory when set
-  int modes = 6;                 ///< modes: how many of the lowest natural modes
+  int modes = 6;                 ///< modes, buckling: how many of the lowest modes
   int groups = 0;                ///< batch: rank groups (0: one per rank)
   bool retry_failed = false;     ///< batch: solve recorded failures again on resume
   std::string restart;           ///< run: FILE or FILE:STEP, the checkpoint to continue from
@@ -33,5 +33,8 @@ int command_control(const CommandOptions& options, MPI_Comm comm);
 /// Static equilibrium, then the lowest natural frequencies and modes about it (SLEPc); the modes
 /// are written as the output steps 1..n (the equilibrium plus the scaled mode) and as a CSV.
 int command_modes(Simulation& sim, const CommandOptions& options, MPI_Comm comm);
+/// Static equilibrium under the model's loads, then the smallest load factors of linearized
+/// buckling (SLEPc); the buckling modes as output steps 1..n and the factors as a CSV.
+int command_buckling(Simulation& sim, const CommandOptions& options, MPI_Comm comm);
 
 }  // namespace latticedyn

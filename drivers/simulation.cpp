@@ -67,4 +67,21 @@ PetscErrorCode equilibrium_modes(Simulation& sim, SystemAssembler& sa, Vec U, Ve
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode equilibrium_buckling(Simulation& sim, SystemAssembler& sa, Vec U, Vec V, int count,
+                                    std::vector<BucklingMode>* modes, SimulationOutcome* outcome,
+                                    std::string* message) {
+  PetscFunctionBeginUser;
+  modes->clear();
+  Vec U0;
+  PetscCall(VecDuplicate(U, &U0));
+  PetscCall(VecCopy(U, U0));
+  PetscCall(simulate(sim, sa, U, V, true, false, nullptr, outcome));
+  if (outcome->statics.converged) {
+    BucklingAnalysis buckling(sa, BucklingSettings{count, 1e-10});
+    PetscCall(buckling.solve(U0, U, sim.statics.time, modes, message));
+  }
+  PetscCall(VecDestroy(&U0));
+  PetscFunctionReturn(0);
+}
+
 }  // namespace latticedyn

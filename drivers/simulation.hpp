@@ -3,6 +3,7 @@
 #pragma once
 
 #include "io/model_reader.hpp"
+#include "timestepping/buckling_analysis.hpp"
 #include "timestepping/modal_analysis.hpp"
 #include "timestepping/solver_setup.hpp"
 
@@ -44,5 +45,13 @@ const char* integrator_name(IntegratorKind kind);
 /// The caller destroys the modes (destroy_modes). Collective.
 PetscErrorCode equilibrium_modes(Simulation& sim, SystemAssembler& sa, Vec U, Vec V, int count,
                                  std::vector<Mode>* modes, SimulationOutcome* outcome, std::string* message);
+
+/// Linearized buckling: the initial state U is the unloaded reference, the static equilibrium
+/// under the model's loads (gravity and nodal loads) the loaded one; then the `count` load factors
+/// of smallest magnitude (timestepping/buckling_analysis.hpp). U, V: the initial state in, the
+/// equilibrium out; as equilibrium_modes otherwise.
+PetscErrorCode equilibrium_buckling(Simulation& sim, SystemAssembler& sa, Vec U, Vec V, int count,
+                                    std::vector<BucklingMode>* modes, SimulationOutcome* outcome,
+                                    std::string* message);
 
 }  // namespace latticedyn

@@ -1,7 +1,7 @@
 // Generalized eigenproblem with SLEPc: shift-and-invert near zero, exact LU of K - sigma M.
 #include "timestepping/modal_analysis.hpp"
 
-#include "timestepping/solver_setup.hpp"
+#include "timestepping/eigen_pencil.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -34,19 +34,7 @@ PetscErrorCode ModalAnalysis::solve(Vec U, double t, std::vector<Mode>* modes, s
   PetscCall(MatAXPY(M_, -1.0, K_, SAME_NONZERO_PATTERN));
   // Multiplier columns times s match the constraint rows s G: [K, s G^T; s G, 0]. Symmetrise the
   // round-off away (the pencil is symmetric at an equilibrium).
-  Vec D;
-  PetscCall(MatCreateVecs(K_, &D, nullptr));
-  PetscCall(VecSet(D, 1.0));
-  for (std::size_t c = 0; c < sa_.model().constraints.size(); ++c) {
-    const PetscInt first = sa_.dofs().multiplier_dof(static_cast<int>(c));
-    for (int i = 0; i < sa_.model().constraints[c].rows(); ++i)
-      if (first + i >= sa_.dofs().owned_begin() && first + i < sa_.dofs().owned_end())
-        PetscCall(VecSetValue(D, first + i, s, INSERT_VALUES));
-  }
-  PetscCall(VecAssemblyBegin(D));
-  PetscCall(VecAssemblyEnd(D));
-  PetscCall(MatDiagonalScale(K_, nullptr, D));
-  PetscCall(VecDestroy(&D));
+  PetscCall(scale_multiplier_columns(sa_, s, {K_}));
   for (Mat* A : {&K_, &M_}) {
     Mat At;
     PetscCall(MatTranspose(*A, MAT_INITIAL_MATRIX, &At));
@@ -55,25 +43,12 @@ PetscErrorCode ModalAnalysis::solve(Vec U, double t, std::vector<Mode>* modes, s
     PetscCall(MatDestroy(&At));
   }
 
-  EPS eps;
-  ST st;
-  KSP ksp;
-  PetscCall(EPSCreate(sa_.comm(), &eps));
-  PetscCall(EPSSetOperators(eps, K_, M_));
   // Symmetric A, semidefinite M (zero on the multipliers): shift-and-invert with purification
-  // keeps the multipliers' infinite eigenvalues out.
-  PetscCall(EPSSetProblemType(eps, EPS_GHEP));
-  PetscCall(EPSGetST(eps, &st));
-  PetscCall(STSetType(st, STSINVERT));
-  // A small negative shift keeps K - sigma M regular for free bodies (omega^2 = 0).
+  // keeps the multipliers' infinite eigenvalues out. A small negative shift keeps K - sigma M
+  // regular for free bodies (omega^2 = 0).
   const double sigma = -1e-6 * sa_.characteristic_stiffness() / sa_.characteristic_mass();
-  PetscCall(EPSSetTarget(eps, sigma));
-  PetscCall(EPSSetWhichEigenpairs(eps, EPS_TARGET_MAGNITUDE));
-  PetscCall(EPSSetDimensions(eps, settings_.modes, PETSC_DEFAULT, PETSC_DEFAULT));
-  PetscCall(EPSSetTolerances(eps, settings_.tolerance, 1000));
-  PetscCall(STGetKSP(st, &ksp));
-  PetscCall(set_direct_solver_defaults(ksp));
-  PetscCall(EPSSetFromOptions(eps));  // -eps_ and -st_ options win
+  EPS eps;
+  PetscCall(create_shift_invert_eps(sa_.comm(), K_, M_, EPS_GHEP, sigma, settings_.modes, settings_.tolerance, &eps));
   PetscCall(EPSSolve(eps));
   PetscInt converged;
   PetscCall(EPSGetConverged(eps, &converged));

@@ -88,11 +88,38 @@ double natural_frequency(const std::string& model_path, int mode) {
   return f;
 }
 
+// The `mode`-th positive load factor (from 1; the loads as given, not reversed) of linearized
+// buckling about the model's static equilibrium under its loads, on rank 0's own communicator.
+double buckling_factor(const std::string& model_path, int mode) {
+  Simulation sim = read_simulation(model_path);
+  SystemAssembler sa(sim.model, PETSC_COMM_SELF);
+  Vec U, V;
+  PetscCallAbort(PETSC_COMM_SELF, sa.create_vector(&U));
+  PetscCallAbort(PETSC_COMM_SELF, sa.create_vector(&V));
+  PetscCallAbort(PETSC_COMM_SELF, initial_state(sim, sa, U, V));
+  SimulationOutcome outcome;
+  std::vector<BucklingMode> modes;
+  std::string message;
+  // Reversed loads can buckle the model as early (a symmetric structure): ask for both signs.
+  PetscCallAbort(PETSC_COMM_SELF, equilibrium_buckling(sim, sa, U, V, 2 * mode + 2, &modes, &outcome, &message));
+  double f = NAN;
+  int positive = 0;
+  for (const BucklingMode& m : modes)
+    if (m.factor > 0 && ++positive == mode) {
+      f = m.factor;
+      break;
+    }
+  destroy_modes(modes);
+  VecDestroy(&U);
+  VecDestroy(&V);
+  return f;
+}
+
 // Evaluates one check on rank 0 (other ranks only take part in the runs it starts).
 Result evaluate(const InputNode& c, const Trajectory& tr, const std::filesystem::path& dir, MPI_Comm comm) {
   const std::string what = c["what"].as_choice({"axial_force", "displacement", "position", "multiplier", "period",
                                                  "energy_drift", "max_violation", "variation", "compare_run",
-                                                 "mpi_consistency", "frequency", "min_axial_force"});
+                                                 "mpi_consistency", "frequency", "buckling_factor", "min_axial_force"});
   int rank = 0, size = 1;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &size);
@@ -149,6 +176,22 @@ Result evaluate(const InputNode& c, const Trajectory& tr, const std::filesystem:
     if (mode < 1 || mode > 100) c["mode"].fail("expected a mode number from 1 to 100");
     return compare(c, "natural frequency of mode " + std::to_string(mode) + " (Hz)",
                    natural_frequency(tr.simulation->source, mode));
+  }
+  if (what == "buckling_factor") {
+    // Against a closed form (expected) or against another model's factor of the same mode (the
+    // full lattice against its reduction): `model` with rel_tol.
+    c.allow_only({"what", "mode", "expected", "model", "abs_tol", "rel_tol"});
+    const int mode = c["mode"].as_int();
+    if (mode < 1 || mode > 100) c["mode"].fail("expected a mode number from 1 to 100");
+    const double value = buckling_factor(tr.simulation->source, mode);
+    const std::string label = "buckling load factor " + std::to_string(mode) + " (positive)";
+    if (!c.has("model")) return compare(c, label, value);
+    if (c.has("expected")) c["expected"].fail("give either expected or model, not both");
+    const double other = buckling_factor((dir / c["model"].as_string()).string(), mode);
+    const double tol = c["rel_tol"].as_positive() * std::abs(other);
+    char buf[128];
+    std::snprintf(buf, sizeof buf, "%.10g (%s) +- %.3g", other, c["model"].as_string().c_str(), tol);
+    return Result{label, value, buf, std::isfinite(value) && std::abs(value - other) <= tol};
   }
   if (what == "min_axial_force") {
     c.allow_only({"what", "body", "min"});
