@@ -44,7 +44,7 @@ PetscErrorCode BucklingAnalysis::solve(Vec U0, Vec U1, double t, std::vector<Buc
   // A shift just below zero keeps K0 - sigma B regular for a mechanism held by its loads alone
   // (a hanging pendulum: lambda = 0 buckles it, K0 alone is singular).
   EPS eps;
-  PetscCall(create_shift_invert_eps(sa_.comm(), K0_, KG_, EPS_GNHEP, -1e-6, settings_.modes, settings_.tolerance, &eps));
+  PetscCall(create_shift_invert_eps(sa_.comm(), K0_, KG_, EPS_GNHEP, -1e-6, search_count(sa_, settings_.modes), settings_.tolerance, &eps));
   PetscCall(EPSSolve(eps));
   PetscInt converged;
   PetscCall(EPSGetConverged(eps, &converged));

@@ -3,6 +3,8 @@
 
 #include "timestepping/solver_setup.hpp"
 
+#include <algorithm>
+
 namespace latticedyn {
 
 PetscErrorCode scale_multiplier_columns(const SystemAssembler& sa, double s, std::initializer_list<Mat> matrices) {
@@ -21,6 +23,10 @@ PetscErrorCode scale_multiplier_columns(const SystemAssembler& sa, double s, std
   for (Mat M : matrices) PetscCall(MatDiagonalScale(M, nullptr, D));
   PetscCall(VecDestroy(&D));
   PetscFunctionReturn(0);
+}
+
+int search_count(const SystemAssembler& sa, int wanted) {
+  return std::max(1, std::min(wanted + std::max(4, wanted / 2), sa.model().num_free_dofs()));
 }
 
 PetscErrorCode create_shift_invert_eps(MPI_Comm comm, Mat A, Mat B, EPSProblemType type, double target, int count,

@@ -14,6 +14,12 @@ namespace latticedyn {
 /// change of the multipliers' unit: the pencil's eigenvalues stay, its scaling improves). Collective.
 PetscErrorCode scale_multiplier_columns(const SystemAssembler& sa, double s, std::initializer_list<Mat> matrices);
 
+/// How many eigenpairs to ask SLEPc for when `wanted` are wanted: a few more, because a Krylov
+/// method asked for exactly as many can miss the second copy of a double eigenvalue (a round
+/// section's two bending planes: 200 cubic spline beams gave bending, then torsion), at most the
+/// model's free DoFs.
+int search_count(const SystemAssembler& sa, int wanted);
+
 /// An EPS for A x = mu B x that finds the `count` eigenvalues nearest `target` by shift-and-invert
 /// with the direct solver's defaults; -eps_ and -st_ options win. The caller destroys it.
 PetscErrorCode create_shift_invert_eps(MPI_Comm comm, Mat A, Mat B, EPSProblemType type, double target, int count,

@@ -102,7 +102,10 @@ LinearModel linearize(SystemAssembler& sa, Vec U, Vec V, Vec A, double t, const 
     return dense(J);
   };
   const Eigen::MatrixXd Jq = tangent(1.0, 0.0, 0.0);
-  const Eigen::MatrixXd Jv = tangent(1.0, 1.0, 0.0) - Jq, Ja = tangent(1.0, 0.0, 1.0) - Jq;
+  // C and M as differences of Jacobians without stiffness (what is left, the multiplier columns,
+  // cancels exactly), so that the stiffness's round-off does not swamp them.
+  const Eigen::MatrixXd J0 = tangent(0.0, 0.0, 0.0);
+  const Eigen::MatrixXd Jv = tangent(0.0, 1.0, 0.0) - J0, Ja = tangent(0.0, 0.0, 1.0) - J0;
   MatDestroy(&J);
   const Eigen::MatrixXd K = block_of(Jq, q, q), C = block_of(Jv, q, q), M = block_of(Ja, q, q);
   const Eigen::MatrixXd G = block_of(Jq, lambda, q);

@@ -141,5 +141,37 @@ TEST(CubicSplineBeam, MassMatrixCarriesTheElementMass) {
   EXPECT_NEAR(r(2) + r(9), 9.81 * p.beam.material.density * p.beam.section.area * p.beam.length, 1e-9);
 }
 
+// Elements much shorter than their section (5 mm of a 0.2 m rod, 2.5 mm far from the origin): the
+// stiffness and mass keep the Euler-Bernoulli Hermite values, 12 EI / L^3, 6 EI / L^2, 4 EI / L and
+// 13/35 rho A L (Przemieniecki, Theory of Matrix Structural Analysis, 1968, 5.4 and 11.3), to
+// round-off although stiffness and mass differ by 16 orders of magnitude.
+TEST(CubicSplineBeam, ShortElementsKeepTheirStiffnessAndMass) {
+  for (double L : {0.005, 0.0025}) {
+    CubicSplineBeamProperties p;
+    p.beam.material = Material{7800.0, 2.06e11, 0.3};
+    p.beam.section = round_tube_section(0.1, 0.0);
+    p.beam.length = L;
+    const CubicSplineBeam beam(p);
+    std::vector<SlotState<double>> s(6);
+    s[0].pos = Vec3(0.5, 0, 0);
+    s[3].pos = Vec3(0.5 + L, 0, 0);
+    s[2].pos = s[5].pos = Vec3(1, 0, 0);
+    ElementTangents t;
+    beam.tangents(s, ElementContext{}, t);
+    const double EI = 2.06e11 * p.beam.section.Iy, rhoAL = 7800 * p.beam.section.area * L;
+    SCOPED_TRACE("L = " + std::to_string(L));
+    // Slots: translation 1 (0-2), rotation 1 (3-5): bending in x-z couples z1 with the rotation about y.
+    EXPECT_NEAR(t.K(2, 2), 12 * EI / (L * L * L), 1e-9 * 12 * EI / (L * L * L));
+    EXPECT_NEAR(t.K(2, 4), -6 * EI / (L * L), 1e-9 * 6 * EI / (L * L));
+    EXPECT_NEAR(t.K(4, 4), 4 * EI / L, 1e-8 * 4 * EI / L);
+    EXPECT_NEAR(t.M(2, 2), 13.0 / 35 * rhoAL, 1e-12 * rhoAL);
+    // Symmetric and positive semidefinite to round-off: six rigid motions at zero.
+    EXPECT_LT((t.K - t.K.transpose()).norm(), 1e-12 * t.K.norm());
+    const Eigen::SelfAdjointEigenSolver<MatX> eig(t.K);
+    EXPECT_GT(eig.eigenvalues()(0), -1e-14 * t.K.norm());
+    EXPECT_GT(eig.eigenvalues()(6), 1e-12 * t.K.norm());
+  }
+}
+
 }  // namespace
 }  // namespace latticedyn
