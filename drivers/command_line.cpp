@@ -71,6 +71,12 @@ const std::vector<CommandSpec>& commands() {
        "those loads buckle the model (linearized buckling, SLEPc; docs/theory.md); writes <name>_buckling.h5/.xdmf\n"
        "(step 0 the equilibrium, step k buckling mode k) and <name>_buckling.csv (factors).\n"
        "  latticedyn buckling verification/cases/buckling_column_fixed_free.yaml --modes 4\n"},
+      {"path", "the static load-displacement path through limit points (arc length), for limit loads", {"--output"},
+       "From the unloaded start, the equilibria under lambda times the model's gravity and loads, traced by\n"
+       "Crisfield's arc-length method through limit points and snap-through (solver.path: arc_length, max_steps,\n"
+       "max_load_factor, ...); writes <name>_path.h5/.xdmf (step k: path point k) and <name>_path.csv (load\n"
+       "factor and the probe joints' displacements), and names the limit points it passed.\n"
+       "  latticedyn path verification/cases/path_two_bar_truss.yaml\n"},
       {"batch", "the cases of a batch file (a grid or list of model changes) over MPI rank groups",
        {"--output", "--groups", "--retry-failed"},
        "Solves every case of BATCH.yaml (docs/batch.md) and writes one table; run again into the same folder to\n"
@@ -255,12 +261,14 @@ CommandLine parse_command_line(int argc, const char* const* argv) {
                        " --help lists its options)");
       }
       if (!spec || !takes(*spec, arg)) {
-        std::vector<std::string> names;
+        std::vector<const char*> names;
         for (const CommandSpec& c : commands())
-          if (takes(c, arg)) names.push_back("'" + std::string(c.name) + "'");
+          if (takes(c, arg)) names.push_back(c.name);
         std::string owners;
-        for (std::size_t k = 0; k < names.size(); ++k)
-          owners += (k == 0 ? "" : k + 1 == names.size() ? " or " : ", ") + names[k];
+        for (std::size_t k = 0; k < names.size(); ++k) {
+          if (k > 0) owners.append(k + 1 == names.size() ? " or " : ", ");
+          owners.append("'").append(names[k]).append("'");
+        }
         return failure(arg + " belongs to " + owners + ", not to '" + cl.command + "'");
       }
       const char* value = nullptr;

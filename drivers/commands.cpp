@@ -7,6 +7,7 @@
 #include "drivers/interrupt.hpp"
 #include "drivers/observers.hpp"
 #include "drivers/simulation.hpp"
+#include "timestepping/arc_length.hpp"
 #include "timestepping/buckling_analysis.hpp"
 #include "timestepping/modal_analysis.hpp"
 
@@ -566,6 +567,88 @@ int command_buckling(Simulation& sim, const CommandOptions& opt, MPI_Comm comm) 
     PetscFunctionReturn(0);
   };
   return command_equilibrium_modes(sim, opt, comm, "buckling", analyse, [&] { destroy_modes(modes); });
+}
+
+int command_path(Simulation& sim, const CommandOptions& opt, MPI_Comm comm) {
+  if (!opt.output_directory.empty()) sim.output.directory = opt.output_directory;
+  const auto started = Clock::now();
+  print_root(comm, describe_model(sim.model));
+  if (!sim.path.valid()) {
+    error_root(comm, "solver.path: inconsistent settings");
+    return kInputError;
+  }
+  std::string error;
+  auto writer = open_writer(sim, opt, comm, &error, std::nullopt, sim.output.name + "_path");
+  if (!error.empty()) {
+    error_root(comm, error);
+    return kInputError;
+  }
+  SystemAssembler sa(sim.model, comm);
+  Vec U, V;
+  PetscCallAbort(comm, sa.create_vector(&U));
+  PetscCallAbort(comm, sa.create_vector(&V));
+  PetscCallAbort(comm, initial_state(sim, sa, U, V));
+  PetscCallAbort(comm, VecZeroEntries(V));
+  // Output step k: path point k (step 0 the unloaded start); the CSV: the load factor and the
+  // probe joints' displacements from the start.
+  ModelState state(sim.model, sa.dofs());
+  std::vector<Vec3> start;
+  std::vector<std::string> rows;
+  std::vector<double> factors;
+  const auto on_point = [&](const PathPoint& p) {
+    PetscFunctionBeginUser;
+    PetscCall(sa.gather(static_cast<double>(p.step), p.U, V, nullptr, Parametrization::rotation_vector_rates, &state));
+    if (writer) writer->append(state);
+    factors.push_back(p.load_factor);
+    if (is_root(comm)) {
+      char cell[64];
+      std::snprintf(cell, sizeof cell, "%d,%.12g,%d,%.6g", p.step, p.load_factor, p.iterations, p.arc_length);
+      std::string row = cell;
+      for (std::size_t k = 0; k < sim.output.probe_joints.size(); ++k) {
+        const Vec3 r = state.joint_position(sim.output.probe_joints[k]);
+        if (p.step == 0) start.push_back(r);
+        const Vec3 u = r - start[k];
+        std::snprintf(cell, sizeof cell, ",%.12g,%.12g,%.12g", u.x(), u.y(), u.z());
+        row += cell;
+      }
+      rows.push_back(row);
+      std::printf("path: step %d, load factor %.6g, %d iterations, arc %.3g\n", p.step, p.load_factor, p.iterations,
+                  p.arc_length);
+      std::fflush(stdout);
+    }
+    PetscFunctionReturn(0);
+  };
+  ArcLengthSolver solver(sa, sim.path);
+  PathReport report;
+  PetscCallAbort(comm, solver.trace(U, 0.0, on_point, &report));
+  std::string text = "path: " + std::to_string(report.steps) + " points, " + std::to_string(report.newton_iterations) +
+                     " Newton iterations, " + std::to_string(report.cuts) + " arcs halved; " + report.message + "\n";
+  // Limit points: where the load factor turns (a local maximum or minimum along the path).
+  for (std::size_t k = 1; k + 1 < factors.size(); ++k) {
+    const bool top = factors[k] > factors[k - 1] && factors[k] >= factors[k + 1];
+    const bool bottom = factors[k] < factors[k - 1] && factors[k] <= factors[k + 1];
+    if (!top && !bottom) continue;
+    char line[128];
+    std::snprintf(line, sizeof line, "%s load factor %.8g at step %zu (a %s)\n", top ? "limit point: maximum" : "limit point: minimum",
+                  factors[k], k, top ? "limit load" : "snap-through's lowest point");
+    text += line;
+  }
+  if (writer && is_root(comm)) {
+    const auto csv = writer->h5_path().parent_path() / (sim.output.name + "_path.csv");
+    std::ofstream f(csv);
+    f << "step,load_factor,iterations,arc_length";
+    for (int j : sim.output.probe_joints)
+      for (const char* c : {"x", "y", "z"}) f << ",u_" << sim.model.joints[j].name << "." << c << " [m]";
+    f << "\n";
+    for (const std::string& row : rows) f << row << "\n";
+    text += "load-displacement path: " + csv.string() + "\n";
+  }
+  char wall[64];
+  std::snprintf(wall, sizeof wall, "path: wall %.3g s\n", seconds_since(started));
+  print_root(comm, text + wall + where_results(writer.get()));
+  VecDestroy(&U);
+  VecDestroy(&V);
+  return report.completed ? kSuccess : kSolverFailure;
 }
 
 int command_run(Simulation& sim, const CommandOptions& opt, MPI_Comm comm) {

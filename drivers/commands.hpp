@@ -1,6 +1,6 @@
 // The commands of the latticedyn executable: check (validate and describe a model), static
 // (equilibrium), run (equilibrium if asked, then dynamics), modes (natural frequencies), buckling
-// (load factors). Each returns the process exit code.
+// (load factors), path (load-displacement path through limit points). Each returns the process exit code.
 #pragma once
 
 #include "drivers/exit_codes.hpp"
@@ -36,5 +36,8 @@ int command_modes(Simulation& sim, const CommandOptions& options, MPI_Comm comm)
 /// Static equilibrium under the model's loads, then the smallest load factors of linearized
 /// buckling (SLEPc); the buckling modes as output steps 1..n and the factors as a CSV.
 int command_buckling(Simulation& sim, const CommandOptions& options, MPI_Comm comm);
+/// The static equilibrium path under the model's loads scaled by a load factor, by arc length
+/// through limit points (solver.path); each point an output step, the path as a CSV.
+int command_path(Simulation& sim, const CommandOptions& options, MPI_Comm comm);
 
 }  // namespace latticedyn

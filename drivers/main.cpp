@@ -86,6 +86,7 @@ int main(int argc, char** argv) {
     if (command == "run") code = command_run(sim, options, PETSC_COMM_WORLD);
     if (command == "modes") code = command_modes(sim, options, PETSC_COMM_WORLD);
     if (command == "buckling") code = command_buckling(sim, options, PETSC_COMM_WORLD);
+    if (command == "path") code = command_path(sim, options, PETSC_COMM_WORLD);
   } catch (const InputError& e) {
     if (rank == 0) std::fprintf(stderr, "latticedyn: error: %s\n", e.what());
     code = kInputError;

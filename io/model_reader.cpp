@@ -108,7 +108,7 @@ void read_loads(ReaderContext& ctx, const InputNode& list) {
 }
 
 void read_solver(const InputNode& n, Simulation& sim) {
-  n.allow_only({"static", "dynamics", "petsc_options"});
+  n.allow_only({"static", "dynamics", "path", "petsc_options"});
   sim.petsc_options = n.get_string("petsc_options", "");
   for (const PetscOptionToken& o : split_petsc_options(sim.petsc_options))
     if (auto why = refused_model_option(o)) n["petsc_options"].fail(*why);
@@ -134,6 +134,36 @@ void read_solver(const InputNode& n, Simulation& sim) {
     st.atol = s->get_positive("atol", st.atol);
     st.time = s->get_double("time", st.time);
     st.regularization = s->get_non_negative("regularization", st.regularization);
+  }
+  if (auto p = n.get("path")) {
+    p->allow_only({"arc_length", "max_steps", "max_load_factor", "min_load_factor", "max_iterations",
+                   "target_iterations", "max_arc_factor", "tolerance", "time"});
+    PathSettings& ps = sim.path;
+    ps.arc_length = p->get_non_negative("arc_length", ps.arc_length);
+    if (auto k = p->get("max_steps")) {
+      ps.max_steps = k->as_int();
+      if (ps.max_steps < 1 || ps.max_steps > 1000000) k->fail("expected 1 to 1000000 steps");
+    }
+    ps.max_load_factor = p->get_double("max_load_factor", ps.max_load_factor);
+    ps.min_load_factor = p->get_double("min_load_factor", ps.min_load_factor);
+    if (ps.min_load_factor >= ps.max_load_factor)
+      (*p)[p->has("min_load_factor") ? "min_load_factor" : "max_load_factor"].fail(
+          "expected min_load_factor below max_load_factor");
+    if (auto k = p->get("max_iterations")) {
+      ps.max_iterations = k->as_int();
+      if (ps.max_iterations < 1 || ps.max_iterations > kMaxNewtonIterations)
+        k->fail("expected 1 to " + std::to_string(kMaxNewtonIterations) + " iterations");
+    }
+    if (auto k = p->get("target_iterations")) {
+      ps.target_iterations = k->as_int();
+      if (ps.target_iterations < 1 || ps.target_iterations > 100) k->fail("expected 1 to 100 iterations");
+    }
+    ps.tolerance = p->get_positive("tolerance", ps.tolerance);
+    ps.time = p->get_double("time", ps.time);
+    if (auto k = p->get("max_arc_factor")) {
+      ps.max_arc_factor = k->as_double();
+      if (!(ps.max_arc_factor >= 1 && ps.max_arc_factor <= 1e6)) k->fail("expected 1 to 1e6 (times the first arc)");
+    }
   }
   if (auto d = n.get("dynamics")) {
     d->allow_only({"integrator", "t_start", "t_end", "time_step", "rho_infinity", "adaptive", "rtol", "atol", "max_steps",

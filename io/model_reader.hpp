@@ -5,6 +5,7 @@
 #include "assembly/model.hpp"
 #include "io/input_node.hpp"
 #include "timestepping/dynamic_settings.hpp"
+#include "timestepping/arc_length.hpp"
 #include "timestepping/static_solver.hpp"
 
 #include <string>
@@ -27,6 +28,7 @@ struct Simulation {
   StaticSettings statics;
   bool run_dynamics = false;  ///< a dynamics section is present
   DynamicSettings dynamics;
+  PathSettings path;  ///< solver.path: the arc-length continuation of `latticedyn path`
   OutputSettings output;
   std::string petsc_options;  ///< inserted into the options database before the command line
   /// A recorded state to start from (start_state), in model order (DofMap::to_model_order);

@@ -88,15 +88,20 @@ double natural_frequency(const std::string& model_path, int mode) {
   return f;
 }
 
+// The model's initial state in new vectors (the caller destroys them).
+void start(const Simulation& sim, SystemAssembler& sa, Vec* U, Vec* V) {
+  PetscCallAbort(PETSC_COMM_SELF, sa.create_vector(U));
+  PetscCallAbort(PETSC_COMM_SELF, sa.create_vector(V));
+  PetscCallAbort(PETSC_COMM_SELF, initial_state(sim, sa, *U, *V));
+}
+
 // The `mode`-th positive load factor (from 1; the loads as given, not reversed) of linearized
 // buckling about the model's static equilibrium under its loads, on rank 0's own communicator.
 double buckling_factor(const std::string& model_path, int mode) {
   Simulation sim = read_simulation(model_path);
   SystemAssembler sa(sim.model, PETSC_COMM_SELF);
   Vec U, V;
-  PetscCallAbort(PETSC_COMM_SELF, sa.create_vector(&U));
-  PetscCallAbort(PETSC_COMM_SELF, sa.create_vector(&V));
-  PetscCallAbort(PETSC_COMM_SELF, initial_state(sim, sa, U, V));
+  start(sim, sa, &U, &V);
   SimulationOutcome outcome;
   std::vector<BucklingMode> modes;
   std::string message;
@@ -115,11 +120,33 @@ double buckling_factor(const std::string& model_path, int mode) {
   return f;
 }
 
+// The first limit load of the model's arc-length path (solver.path): the first local maximum of
+// the load factor along it, NaN if the path has none; on rank 0's own communicator.
+double limit_load(const std::string& model_path) {
+  Simulation sim = read_simulation(model_path);
+  SystemAssembler sa(sim.model, PETSC_COMM_SELF);
+  Vec U, V;
+  start(sim, sa, &U, &V);
+  std::vector<double> factors;
+  ArcLengthSolver solver(sa, sim.path);
+  PathReport report;
+  PetscCallAbort(PETSC_COMM_SELF, solver.trace(U, 0.0, [&](const PathPoint& p) {
+    factors.push_back(p.load_factor);
+    return PetscErrorCode(0);
+  }, &report));
+  VecDestroy(&U);
+  VecDestroy(&V);
+  for (std::size_t k = 1; k + 1 < factors.size(); ++k)
+    if (factors[k] > factors[k - 1] && factors[k] >= factors[k + 1]) return factors[k];
+  return NAN;
+}
+
 // Evaluates one check on rank 0 (other ranks only take part in the runs it starts).
 Result evaluate(const InputNode& c, const Trajectory& tr, const std::filesystem::path& dir, MPI_Comm comm) {
   const std::string what = c["what"].as_choice({"axial_force", "displacement", "position", "multiplier", "period",
                                                  "energy_drift", "max_violation", "variation", "compare_run",
-                                                 "mpi_consistency", "frequency", "buckling_factor", "min_axial_force"});
+                                                 "mpi_consistency", "frequency", "buckling_factor", "limit_load",
+                                                 "min_axial_force"});
   int rank = 0, size = 1;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &size);
@@ -192,6 +219,10 @@ Result evaluate(const InputNode& c, const Trajectory& tr, const std::filesystem:
     char buf[128];
     std::snprintf(buf, sizeof buf, "%.10g (%s) +- %.3g", other, c["model"].as_string().c_str(), tol);
     return Result{label, value, buf, std::isfinite(value) && std::abs(value - other) <= tol};
+  }
+  if (what == "limit_load") {
+    c.allow_only({"what", "expected", "abs_tol", "rel_tol"});
+    return compare(c, "limit load factor (first maximum of the path)", limit_load(tr.simulation->source));
   }
   if (what == "min_axial_force") {
     c.allow_only({"what", "body", "min"});

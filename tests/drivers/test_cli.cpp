@@ -160,6 +160,31 @@ loads:
   EXPECT_EQ(run("buckling column.yaml --modes x").code, 2);
 }
 
+// The load-displacement path from the command line: the two-bar truss snaps through (its limit
+// load 2960.5 N in closed form, Crisfield 1991, 1.2), the CSV holds the path with the apex's
+// displacement, the output names both limit points; bad path settings are an input error.
+TEST_F(Cli, PathPassesTheLimitPointsAndWritesTheCurve) {
+  const Outcome o = run(std::string("path ") + TWO_BAR_TRUSS + " --output out");
+  ASSERT_EQ(o.code, 0) << o.out << o.err;
+  EXPECT_NE(o.out.find("limit point: maximum load factor 2.960"), std::string::npos) << o.out;
+  EXPECT_NE(o.out.find("limit point: minimum load factor -2.960"), std::string::npos) << o.out;
+  const std::string csv = slurp(dir_ / "out/path_two_bar_truss_path.csv");
+  std::istringstream lines(csv);
+  std::string header;
+  std::getline(lines, header);
+  EXPECT_EQ(header, "step,load_factor,iterations,arc_length,u_apex.pin.x [m],u_apex.pin.y [m],u_apex.pin.z [m]");
+  EXPECT_GT(std::count(csv.begin(), csv.end(), '\n'), 150);
+  EXPECT_TRUE(fs::exists(dir_ / "out/path_two_bar_truss_path.xdmf"));
+  write("bad.yaml", slurp(TWO_BAR_TRUSS) + "\n");
+  std::string text = slurp(dir_ / "bad.yaml");
+  text.replace(text.find("max_load_factor: 4"), 18, "max_load_factor: -2e30");
+  write("bad.yaml", text);
+  const Outcome bad = run("path bad.yaml --output out2");
+  EXPECT_EQ(bad.code, 2) << bad.out << bad.err;
+  EXPECT_NE(bad.err.find("min_load_factor below max_load_factor"), std::string::npos) << bad.err;
+  EXPECT_FALSE(fs::exists(dir_ / "out2"));
+}
+
 // The command line as PETSc and other simulation codes' users expect it: version and help (nothing
 // is run), a suggestion for a mistyped command or option (an error, nothing written), latticedyn's
 // own options in PETSc's -help, and options no solver read reported at the end.
