@@ -27,9 +27,15 @@ PetscErrorCode set_direct_solver_defaults(KSP ksp) {
   // space MUMPS estimated (INFOG(1) = -9 on the full main boom and the full crane on 2 ranks).
   // 100 % more working space than the estimate (ICNTL(14), MUMPS's default 20-35 %) covers every
   // model here; a factorisation that runs out anyway doubles it (recover_from_failed_factorisation).
+  // Under the KSP's own prefix: the factor reads its options with it (SLEPc's shift-and-invert
+  // KSP has "st_", so a plain -mat_mumps_icntl_14 never reached the modal and buckling analyses,
+  // which ran out of space on the full main boom on 2 ranks).
+  const char* prefix = nullptr;
+  PetscCall(KSPGetOptionsPrefix(ksp, &prefix));
+  const std::string name = "-" + std::string(prefix ? prefix : "") + "mat_mumps_icntl_14";
   PetscBool set;
-  PetscCall(PetscOptionsHasName(nullptr, nullptr, "-mat_mumps_icntl_14", &set));
-  if (!set) PetscCall(PetscOptionsSetValue(nullptr, "-mat_mumps_icntl_14", "100"));
+  PetscCall(PetscOptionsHasName(nullptr, nullptr, name.c_str(), &set));
+  if (!set) PetscCall(PetscOptionsSetValue(nullptr, name.c_str(), "100"));
   PetscFunctionReturn(0);
 }
 
