@@ -624,13 +624,11 @@ int command_path(Simulation& sim, const CommandOptions& opt, MPI_Comm comm) {
   std::string text = "path: " + std::to_string(report.steps) + " points, " + std::to_string(report.newton_iterations) +
                      " Newton iterations, " + std::to_string(report.cuts) + " arcs halved; " + report.message + "\n";
   // Limit points: where the load factor turns (a local maximum or minimum along the path).
-  for (std::size_t k = 1; k + 1 < factors.size(); ++k) {
-    const bool top = factors[k] > factors[k - 1] && factors[k] >= factors[k + 1];
-    const bool bottom = factors[k] < factors[k - 1] && factors[k] <= factors[k + 1];
-    if (!top && !bottom) continue;
+  for (const LimitPoint& p : limit_points(factors)) {
     char line[128];
-    std::snprintf(line, sizeof line, "%s load factor %.8g at step %zu (a %s)\n", top ? "limit point: maximum" : "limit point: minimum",
-                  factors[k], k, top ? "limit load" : "snap-through's lowest point");
+    std::snprintf(line, sizeof line, "%s load factor %.8g at step %zu (a %s)\n",
+                  p.maximum ? "limit point: maximum" : "limit point: minimum", factors[p.index], p.index,
+                  p.maximum ? "limit load" : "snap-through's lowest point");
     text += line;
   }
   if (writer && is_root(comm)) {

@@ -15,6 +15,15 @@ namespace {
 constexpr int kMaxCuts = 10;  // 2^-10 of an arc
 }  // namespace
 
+std::vector<LimitPoint> limit_points(const std::vector<double>& f) {
+  std::vector<LimitPoint> points;
+  for (std::size_t k = 1; k + 1 < f.size(); ++k) {
+    if (f[k] > f[k - 1] && f[k] >= f[k + 1]) points.push_back({k, true});
+    if (f[k] < f[k - 1] && f[k] <= f[k + 1]) points.push_back({k, false});
+  }
+  return points;
+}
+
 bool PathSettings::valid() const {
   return arc_length >= 0 && max_steps >= 1 && max_iterations >= 1 && target_iterations >= 1 && max_arc_factor >= 1 &&
          tolerance > 0 && min_load_factor < max_load_factor;
@@ -25,15 +34,7 @@ ArcLengthSolver::ArcLengthSolver(SystemAssembler& sa, PathSettings settings) : s
   PetscCallAbort(comm, sa_.create_matrix(&J_));
   PetscCallAbort(comm, sa_.create_vector(&mask_));
   PetscCallAbort(comm, VecDuplicate(mask_, &work_));
-  PetscCallAbort(comm, VecSet(mask_, 1.0));
-  for (std::size_t c = 0; c < sa_.model().constraints.size(); ++c) {
-    const PetscInt first = sa_.dofs().multiplier_dof(static_cast<int>(c));
-    for (int i = 0; i < sa_.model().constraints[c].rows(); ++i)
-      if (first + i >= sa_.dofs().owned_begin() && first + i < sa_.dofs().owned_end())
-        PetscCallAbort(comm, VecSetValue(mask_, first + i, 0.0, INSERT_VALUES));
-  }
-  PetscCallAbort(comm, VecAssemblyBegin(mask_));
-  PetscCallAbort(comm, VecAssemblyEnd(mask_));
+  PetscCallAbort(comm, fill_by_row_kind(sa_, 1.0, 0.0, mask_));
   const PrefixedOptions options(kStaticPrefix);
   PetscCallAbort(comm, KSPCreate(comm, &ksp_));
   PetscCallAbort(comm, set_direct_solver_defaults(ksp_));
@@ -97,8 +98,8 @@ PetscErrorCode ArcLengthSolver::trace(Vec U, double lambda0, const std::function
   double lambda = lambda0;
   rep.max_load_factor = lambda;
   if (on_point) PetscCall(on_point(PathPoint{0, lambda, 0, 0.0, U}));
-  Vec f, dUf, dUr, R, DU, DU_prev, Utrial;
-  for (Vec* v : {&f, &dUf, &dUr, &R, &DU, &DU_prev, &Utrial}) PetscCall(VecDuplicate(U, v));
+  Vec f, tangent, dUf, dUr, R, DU, DU_prev, Utrial;
+  for (Vec* v : {&f, &tangent, &dUf, &dUr, &R, &DU, &DU_prev, &Utrial}) PetscCall(VecDuplicate(U, v));
   PetscCall(VecZeroEntries(DU_prev));
   bool have_previous = false;
   KSPConvergedReason reason;
@@ -125,38 +126,34 @@ PetscErrorCode ArcLengthSolver::trace(Vec U, double lambda0, const std::function
       rep.message = "the model has no gravity or nodal loads to scale";
       break;
     }
-    PetscCall(solve(f, dUf, &ok));
+    PetscCall(solve(f, tangent, &ok));
     if (!ok) {
       rep.message = "the tangent at load factor " + std::to_string(lambda) + " could not be factored (a mechanism?)";
       break;
     }
-    const double tangent_norm = std::sqrt(coordinate_dot(dUf, dUf));
+    const double tangent_norm = std::sqrt(coordinate_dot(tangent, tangent));
     if (arc == 0.0) {
       if (first_arc <= 0.0) first_arc = 0.1 * tangent_norm;
       arc = first_arc;
     }
     // Past a limit point the tangent's response turns against the last increment: so must lambda.
     double sign = 1.0;
-    if (have_previous) sign = coordinate_dot(dUf, DU_prev) >= 0 ? 1.0 : -1.0;
+    if (have_previous) sign = coordinate_dot(tangent, DU_prev) >= 0 ? 1.0 : -1.0;
 
     bool converged = false;
     int iterations = 0, cuts = 0;
     double dlambda = 0.0;
     while (!converged && cuts <= kMaxCuts) {
       dlambda = sign * arc / tangent_norm;
-      PetscCall(VecCopy(dUf, DU));
+      PetscCall(VecCopy(tangent, DU));
       PetscCall(VecScale(DU, dlambda));
       iterations = 0;
-      bool failed = false;
       for (; iterations <= settings_.max_iterations; ++iterations) {
         PetscCall(VecWAXPY(Utrial, 1.0, DU, U));
         PetscCall(residual(Utrial, lambda + dlambda, R));
         PetscReal rnorm;
         PetscCall(VecNorm(R, NORM_2, &rnorm));
-        if (!std::isfinite(rnorm)) {
-          failed = true;
-          break;
-        }
+        if (!std::isfinite(rnorm)) break;  // outside an element's domain: a shorter arc
         if (rnorm <= settings_.tolerance * fnorm) {
           converged = true;
           break;
@@ -168,27 +165,20 @@ PetscErrorCode ArcLengthSolver::trace(Vec U, double lambda0, const std::function
         PetscCall(solve(R, dUr, &ok_r));
         PetscCall(reference_load(Utrial, f));
         PetscCall(solve(f, dUf, &ok_f));
-        if (!ok_r || !ok_f) {
-          failed = true;
-          break;
-        }
+        if (!ok_r || !ok_f) break;
         // |DU + dUr + dl dUf|^2 = arc^2 over the coordinates: a dl^2 + b dl + c = 0.
         PetscCall(VecAXPY(dUr, 1.0, DU));  // dUr := DU + dUr
         const double a = coordinate_dot(dUf, dUf), b = 2 * coordinate_dot(dUf, dUr),
                      c = coordinate_dot(dUr, dUr) - arc * arc;
         const double disc = b * b - 4 * a * c;
-        if (!(disc >= 0) || !(a > 0)) {
-          failed = true;  // the cylinder is missed: a shorter arc
-          break;
-        }
+        if (!(disc >= 0) || !(a > 0)) break;  // the cylinder is missed: a shorter arc
         const double q = -0.5 * (b + std::copysign(std::sqrt(disc), b));
         const double roots[2] = {q / a, q != 0 ? c / q : -b / (2 * a)};
         // The root whose increment turns least from the current one (Crisfield 1981).
         double best = roots[0], best_cos = -2.0;
         const double du_norm2 = coordinate_dot(DU, DU);
         for (double root : roots) {
-          PetscCall(VecWAXPY(work_, root, dUf, dUr));  // work_ is overwritten by coordinate_dot: copy first
-          PetscCall(VecCopy(work_, R));
+          PetscCall(VecWAXPY(R, root, dUf, dUr));  // R is free until the next residual
           const double num = coordinate_dot(R, DU);
           const double den = std::sqrt(std::max(coordinate_dot(R, R) * du_norm2, 1e-300));
           if (num / den > best_cos) {
@@ -198,19 +188,12 @@ PetscErrorCode ArcLengthSolver::trace(Vec U, double lambda0, const std::function
         }
         PetscCall(VecWAXPY(DU, best, dUf, dUr));
         dlambda += best;
-        // Back to the predictor's tangent for the next quadratic: dUf changes with the state.
       }
       rep.newton_iterations += iterations;
       if (converged) break;
-      (void)failed;
       ++cuts;
       ++rep.cuts;
       arc *= 0.5;
-      // The predictor's response at the converged point again (dUf was overwritten).
-      PetscCall(factor(U, lambda));
-      PetscCall(reference_load(U, f));
-      PetscCall(solve(f, dUf, &ok));
-      if (!ok) break;
     }
     if (!converged) {
       rep.message = "no equilibrium within the arc at load factor " + std::to_string(lambda) + " after " +
@@ -244,7 +227,7 @@ PetscErrorCode ArcLengthSolver::trace(Vec U, double lambda0, const std::function
     rep.completed = true;
     rep.message = "max_steps (" + std::to_string(settings_.max_steps) + ") reached at load factor " + std::to_string(lambda);
   }
-  for (Vec* v : {&f, &dUf, &dUr, &R, &DU, &DU_prev, &Utrial}) PetscCall(VecDestroy(v));
+  for (Vec* v : {&f, &tangent, &dUf, &dUr, &R, &DU, &DU_prev, &Utrial}) PetscCall(VecDestroy(v));
   *report = rep;
   PetscFunctionReturn(0);
 }

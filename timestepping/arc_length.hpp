@@ -8,6 +8,7 @@
 
 #include <functional>
 #include <string>
+#include <vector>
 
 namespace latticedyn {
 
@@ -43,6 +44,13 @@ struct PathReport {
   double max_load_factor = 0.0;  ///< the largest lambda on the path
   std::string message;     ///< why it stopped
 };
+
+/// Where a path's load factor turns: a local maximum (a limit load) or minimum.
+struct LimitPoint {
+  std::size_t index = 0;  ///< into the factors, i.e. the path point
+  bool maximum = true;
+};
+std::vector<LimitPoint> limit_points(const std::vector<double>& factors);
 
 /// Traces R(U, lambda) = F_int(U) + G^T mu - lambda f(U) = 0, g(U) = 0 from the state U (its
 /// load factor `lambda0`, 0 for the unloaded start) under the cylindrical constraint

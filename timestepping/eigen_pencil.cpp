@@ -11,15 +11,7 @@ PetscErrorCode scale_multiplier_columns(const SystemAssembler& sa, double s, std
   PetscFunctionBeginUser;
   Vec D;
   PetscCall(MatCreateVecs(*matrices.begin(), &D, nullptr));
-  PetscCall(VecSet(D, 1.0));
-  for (std::size_t c = 0; c < sa.model().constraints.size(); ++c) {
-    const PetscInt first = sa.dofs().multiplier_dof(static_cast<int>(c));
-    for (int i = 0; i < sa.model().constraints[c].rows(); ++i)
-      if (first + i >= sa.dofs().owned_begin() && first + i < sa.dofs().owned_end())
-        PetscCall(VecSetValue(D, first + i, s, INSERT_VALUES));
-  }
-  PetscCall(VecAssemblyBegin(D));
-  PetscCall(VecAssemblyEnd(D));
+  PetscCall(fill_by_row_kind(sa, 1.0, s, D));
   for (Mat M : matrices) PetscCall(MatDiagonalScale(M, nullptr, D));
   PetscCall(VecDestroy(&D));
   PetscFunctionReturn(0);

@@ -32,10 +32,25 @@ PetscErrorCode set_direct_solver_defaults(KSP ksp) {
   // which ran out of space on the full main boom on 2 ranks).
   const char* prefix = nullptr;
   PetscCall(KSPGetOptionsPrefix(ksp, &prefix));
-  const std::string name = "-" + std::string(prefix ? prefix : "") + "mat_mumps_icntl_14";
+  std::string name = "-";
+  name.append(prefix ? prefix : "").append("mat_mumps_icntl_14");
   PetscBool set;
   PetscCall(PetscOptionsHasName(nullptr, nullptr, name.c_str(), &set));
   if (!set) PetscCall(PetscOptionsSetValue(nullptr, name.c_str(), "100"));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode fill_by_row_kind(const SystemAssembler& sa, double coordinate, double multiplier, Vec v) {
+  PetscFunctionBeginUser;
+  PetscCall(VecSet(v, coordinate));
+  for (std::size_t c = 0; c < sa.model().constraints.size(); ++c) {
+    const PetscInt first = sa.dofs().multiplier_dof(static_cast<int>(c));
+    for (int i = 0; i < sa.model().constraints[c].rows(); ++i)
+      if (first + i >= sa.dofs().owned_begin() && first + i < sa.dofs().owned_end())
+        PetscCall(VecSetValue(v, first + i, multiplier, INSERT_VALUES));
+  }
+  PetscCall(VecAssemblyBegin(v));
+  PetscCall(VecAssemblyEnd(v));
   PetscFunctionReturn(0);
 }
 

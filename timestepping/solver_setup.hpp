@@ -17,6 +17,10 @@ namespace latticedyn {
 /// callers apply the options database afterwards.
 PetscErrorCode set_direct_solver_defaults(KSP ksp);
 
+/// v = `coordinate` on the rows of coordinates, `multiplier` on the constraints' multiplier rows
+/// (v created by the assembler). Collective.
+PetscErrorCode fill_by_row_kind(const SystemAssembler& sa, double coordinate, double multiplier, Vec v);
+
 /// What ksp solved with, for the run's summary: e.g. "PETSc LU", "MUMPS LU",
 /// "GMRES on additive Schwarz (overlap 1), PETSc LU per subdomain, 5.1 iterations per solve". Call
 /// after the solves (the subdomain solvers exist once the preconditioner is set up);

@@ -68,15 +68,20 @@ Result below(const std::string& what, double value, double max) {
   return Result{what, value, buf, std::isfinite(value) && value <= max};
 }
 
+// The model's initial state in new vectors (the caller destroys them).
+void start(const Simulation& sim, SystemAssembler& sa, Vec* U, Vec* V) {
+  PetscCallAbort(PETSC_COMM_SELF, sa.create_vector(U));
+  PetscCallAbort(PETSC_COMM_SELF, sa.create_vector(V));
+  PetscCallAbort(PETSC_COMM_SELF, initial_state(sim, sa, *U, *V));
+}
+
 // Natural frequency (Hz) of mode `mode` (from 1) about the model's static equilibrium, on rank 0's
 // own communicator (the modal solve is small and serial here).
 double natural_frequency(const std::string& model_path, int mode) {
   Simulation sim = read_simulation(model_path);
   SystemAssembler sa(sim.model, PETSC_COMM_SELF);
   Vec U, V;
-  PetscCallAbort(PETSC_COMM_SELF, sa.create_vector(&U));
-  PetscCallAbort(PETSC_COMM_SELF, sa.create_vector(&V));
-  PetscCallAbort(PETSC_COMM_SELF, sa.initial_state(U, V));
+  start(sim, sa, &U, &V);
   SimulationOutcome outcome;
   std::vector<Mode> modes;
   std::string message;
@@ -88,12 +93,6 @@ double natural_frequency(const std::string& model_path, int mode) {
   return f;
 }
 
-// The model's initial state in new vectors (the caller destroys them).
-void start(const Simulation& sim, SystemAssembler& sa, Vec* U, Vec* V) {
-  PetscCallAbort(PETSC_COMM_SELF, sa.create_vector(U));
-  PetscCallAbort(PETSC_COMM_SELF, sa.create_vector(V));
-  PetscCallAbort(PETSC_COMM_SELF, initial_state(sim, sa, *U, *V));
-}
 
 // The `mode`-th positive load factor (from 1; the loads as given, not reversed) of linearized
 // buckling about the model's static equilibrium under its loads, on rank 0's own communicator.
@@ -136,8 +135,8 @@ double limit_load(const std::string& model_path) {
   }, &report));
   VecDestroy(&U);
   VecDestroy(&V);
-  for (std::size_t k = 1; k + 1 < factors.size(); ++k)
-    if (factors[k] > factors[k - 1] && factors[k] >= factors[k + 1]) return factors[k];
+  for (const LimitPoint& p : limit_points(factors))
+    if (p.maximum) return factors[p.index];
   return NAN;
 }
 
