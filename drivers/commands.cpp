@@ -522,14 +522,15 @@ int command_modes(Simulation& sim, const CommandOptions& opt, MPI_Comm comm) {
     PetscFunctionBeginUser;
     std::string message;
     PetscCall(equilibrium_modes(sim, sa, U, V, opt.modes, &modes, outcome, &message));
-    out->table = "mode  frequency (Hz)  omega^2 (1/s^2)  relative residual\n";
-    out->csv_header = "mode,frequency_hz,omega2";
+    out->table = "mode  frequency (Hz)  omega^2 (1/s^2)  damping ratio  relative residual\n";
+    out->csv_header = "mode,frequency_hz,omega2,damping_ratio";
     for (std::size_t k = 0; k < modes.size(); ++k) {
-      char line[128];
-      std::snprintf(line, sizeof line, "%4zu  %14.6g  %15.6g  %.1e\n", k + 1, modes[k].frequency, modes[k].omega2,
-                    modes[k].residual);
+      char line[160];
+      std::snprintf(line, sizeof line, "%4zu  %14.6g  %15.6g  %13.4g  %.1e\n", k + 1, modes[k].frequency,
+                    modes[k].omega2, modes[k].damping_ratio, modes[k].residual);
       out->table += line;
-      std::snprintf(line, sizeof line, "%zu,%.10g,%.10g", k + 1, modes[k].frequency, modes[k].omega2);
+      std::snprintf(line, sizeof line, "%zu,%.10g,%.10g,%.6g", k + 1, modes[k].frequency, modes[k].omega2,
+                    modes[k].damping_ratio);
       out->csv_rows.push_back(line);
       out->shapes.push_back(modes[k].vector);
     }

@@ -4,6 +4,7 @@
 
 #include "core/quadrature.hpp"
 #include "elements/energy_ad.hpp"
+#include "elements/strain_rate_damping.hpp"
 
 #include <cmath>
 #include <stdexcept>
@@ -70,6 +71,44 @@ CubicSplineBeam::CubicSplineBeam(const CubicSplineBeamProperties& p) : props_(p)
   }
 }
 
+void CubicSplineBeam::add_damping(std::span<const SlotState<double>> s, const ElementContext& ctx,
+                                  Eigen::Ref<VecX> r, ElementTangents* t) const {
+  const double beta = props_.beam.material.damping.beta;
+  if (!(beta > 0) || ctx.at_rest) return;
+  const std::size_t ng = xi_.size();
+  MatX Cd = MatX::Zero(4 * static_cast<Eigen::Index>(ng), 4 * static_cast<Eigen::Index>(ng));
+  for (std::size_t g = 0; g < ng; ++g) {
+    const double c = beta * L_ * w_[g];
+    const Eigen::Index k = 4 * static_cast<Eigen::Index>(g);
+    Cd(k, k) = c * ea_;
+    for (int j = 0; j < 3; ++j) Cd(k + 1 + j, k + 1 + j) = c * stiffness_(j);
+  }
+  SplineAD::Gradient v;
+  v << s[3].vel - s[0].vel, s[1].vel, s[2].vel(0), s[4].vel, s[5].vel(0);
+  SplineAD::Gradient f = SplineAD::Gradient::Zero();
+  static const Projection P = energy_to_dofs();
+  auto strains = [&](auto& ad, auto& e) {
+    gauss_strains(ad.vec(s[3].pos - s[0].pos, 0), ad.rot(s[1].rot, 3), ad.scalar(s[2].pos(0), 6), ad.rot(s[4].rot, 7),
+                  ad.scalar(s[5].pos(0), 10), std::span(e));
+  };
+  if (!t) {
+    SplineAD::FirstOrder ad;
+    std::vector<Dual<11>> e(4 * ng);
+    strains(ad, e);
+    add_strain_rate_damping_force<11>(e, Cd, v, f);
+    r += P * f;
+    return;
+  }
+  SplineAD::SecondOrder ad;
+  std::vector<HyperDual<11>> e(4 * ng);
+  strains(ad, e);
+  SplineAD::Stiffness K = SplineAD::Stiffness::Zero(), C = SplineAD::Stiffness::Zero();
+  add_strain_rate_damping<11>(e, ad, Cd, v, f, K, C);
+  r += P * f;
+  t->K += P * K * P.transpose();
+  t->C += P * C * P.transpose();
+}
+
 void CubicSplineBeam::residual(std::span<const SlotState<double>> s, const ElementContext& ctx,
                                Eigen::Ref<VecX> r) const {
   AutoDiffElement::residual(s, ctx, r);
@@ -78,6 +117,7 @@ void CubicSplineBeam::residual(std::span<const SlotState<double>> s, const Eleme
   SplineAD::extract(spline_energy(*this, s, ad), nullptr, &g);
   static const Projection P = energy_to_dofs();
   r += P * g;
+  add_damping(s, ctx, r, nullptr);
 }
 
 void CubicSplineBeam::tangents(std::span<const SlotState<double>> s, const ElementContext& ctx,
@@ -91,6 +131,7 @@ void CubicSplineBeam::tangents(std::span<const SlotState<double>> s, const Eleme
   static const Projection P = energy_to_dofs();
   out.residual += P * g;
   out.K += P * K * P.transpose();
+  add_damping(s, ctx, out.residual, &out);
 }
 
 ElementEnergy CubicSplineBeam::energy(std::span<const SlotState<double>> s, const ElementContext& ctx) const {

@@ -6,6 +6,7 @@
 #include "elements/autodiff_element.hpp"
 #include "elements/timoshenko_beam.hpp"
 
+#include <span>
 #include <vector>
 
 namespace latticedyn {
@@ -25,6 +26,8 @@ struct CubicSplineBeamProperties {
 /// and Hessian by automatic differentiation. Euler-Bernoulli: no shear deformation.
 /// Inertia: consistent mass of the cubic for the translations (3-73, 3-74); the sections' rotary
 /// inertia lumped at the ends like the Timoshenko beam; gravity consistent with the cubic.
+/// Damping: the material's Rayleigh alpha times the mass above on the velocities; beta as
+/// Kelvin-Voigt damping of the strains, beta (EA eps_dot, GJ kx_dot, EIy ky_dot, EIz kz_dot).
 /// Limits: the Cardan angles are singular at 90 degrees of bending within one element (8.1.1).
 class CubicSplineBeam final : public AutoDiffElement<CubicSplineBeam, 14> {
  public:
@@ -53,8 +56,15 @@ class CubicSplineBeam final : public AutoDiffElement<CubicSplineBeam, 14> {
   /// Strain energy from d = r2 - r1, the end rotations and the end stretches.
   template <class S>
   S strain_energy(const Vec3T<S>& d, const Mat3T<S>& R1, const S& s1, const Mat3T<S>& R2, const S& s2) const;
+  /// The strains (eps, kappa_x, kappa_y, kappa_z) of every Gauss point, four per point, into strains.
+  template <class S>
+  void gauss_strains(const Vec3T<S>& d, const Mat3T<S>& R1, const S& s1, const Mat3T<S>& R2, const S& s2,
+                     std::span<S> strains) const;
 
  private:
+  void add_damping(std::span<const SlotState<double>> s, const ElementContext& ctx, Eigen::Ref<VecX> r,
+                   ElementTangents* t) const;
+
   CubicSplineBeamProperties props_;
   double rho_a_ = 0.0, L_ = 0.0;
   Vec3 rotary_ = Vec3::Zero();
@@ -70,7 +80,7 @@ void CubicSplineBeam::compute_residual(std::span<const SlotState<S>> s, const El
   const Vec3T<S> ex = Vec3T<S>(S(1), S(0), S(0));
   const S L(L_), m(rho_a_ * L_);
   // X and its second time derivative; t = L s R e_x.
-  Vec3T<S> Xdd[4];
+  Vec3T<S> Xdd[4], Xd[4];
   Vec3T<S> axis[2];
   for (int e = 0; e < 2; ++e) {
     const SlotState<S>& rot = s[1 + 3 * e];
@@ -80,12 +90,18 @@ void CubicSplineBeam::compute_residual(std::span<const SlotState<S>> s, const El
     axis[e] = rot.rot * ex;
     Xdd[2 * e] = s[3 * e].acc;
     Xdd[2 * e + 1] = L * (rot.rot * (ex * sdd + S(2) * sd * wx + sv * (rot.acc.cross(ex) + w.cross(wx))));
+    Xd[2 * e] = s[3 * e].vel;
+    Xd[2 * e + 1] = L * (rot.rot * (ex * sd + sv * wx));
   }
+  const double alpha = props_.beam.material.damping.alpha;
   const double integral[4] = {0.5, 1.0 / 12, 0.5, -1.0 / 12};
   Vec3T<S> f[4];
   for (int a = 0; a < 4; ++a) {
     f[a] = -m * S(integral[a]) * cast_to<S>(ctx.gravity);
     for (int b = 0; b < 4; ++b) f[a] += m * S(hermite_mass_(a, b)) * Xdd[b];
+    // Mass-proportional damping: alpha M v, the momentum of the cubic mapped like its inertia.
+    if (alpha > 0)
+      for (int b = 0; b < 4; ++b) f[a] += (m * S(alpha * hermite_mass_(a, b))) * Xd[b];
   }
   const Mat3T<S> J = cast_to<S>(Mat3(rotary_.asDiagonal()));
   for (int e = 0; e < 2; ++e) {
@@ -95,13 +111,14 @@ void CubicSplineBeam::compute_residual(std::span<const SlotState<S>> s, const El
     // dt/d(theta) = -L s R skew(e_x), dt/ds = L R e_x.
     r.template segment<3>(7 * e + 3) =
         L * sv * ex.cross(rot.rot.transpose() * f[2 * e + 1]) + J * rot.acc + rot.vel.cross(J * rot.vel);
+    if (alpha > 0) r.template segment<3>(7 * e + 3) += S(alpha) * (J * rot.vel);
     r(7 * e + 6) = L * axis[e].dot(f[2 * e + 1]);
   }
 }
 
 template <class S>
-S CubicSplineBeam::strain_energy(const Vec3T<S>& d, const Mat3T<S>& R1, const S& s1, const Mat3T<S>& R2,
-                                 const S& s2) const {
+void CubicSplineBeam::gauss_strains(const Vec3T<S>& d, const Mat3T<S>& R1, const S& s1, const Mat3T<S>& R2, const S& s2,
+                                    std::span<S> strains) const {
   using std::atan2;
   using std::cos;
   using std::sin;
@@ -111,7 +128,6 @@ S CubicSplineBeam::strain_energy(const Vec3T<S>& d, const Mat3T<S>& R1, const S&
   const Vec3T<S> t1 = R1.col(0) * (s1 * L), t2 = R2.col(0) * (s2 * L);
   const Mat3T<S> R12 = R1.transpose() * R2;
   const S phi12 = atan2(R12(2, 1), R12(2, 2));
-  S U(0.0);
   for (std::size_t g = 0; g < xi_.size(); ++g) {
     const double x = xi_[g], x2 = x * x;
     const Vec3T<S> rp = d * ((6 * x - 6 * x2) / L) + t1 * ((1 - 4 * x + 3 * x2) / L) + t2 * ((3 * x2 - 2 * x) / L);
@@ -132,9 +148,24 @@ S CubicSplineBeam::strain_energy(const Vec3T<S>& d, const Mat3T<S>& R1, const S&
     const S kx = phi_s - sp * theta_s;
     const S ky = cf * psi_s + sf * cp * theta_s;
     const S kz = -sf * psi_s + cf * cp * theta_s;
-    const S eps = len - 1.0;
-    U += ((eps * eps) * ea_ + (kx * kx) * stiffness_(0) + (ky * ky) * stiffness_(1) + (kz * kz) * stiffness_(2)) *
-         (0.5 * L * w_[g]);
+    strains[4 * g] = len - 1.0;
+    strains[4 * g + 1] = kx;
+    strains[4 * g + 2] = ky;
+    strains[4 * g + 3] = kz;
+  }
+}
+
+template <class S>
+S CubicSplineBeam::strain_energy(const Vec3T<S>& d, const Mat3T<S>& R1, const S& s1, const Mat3T<S>& R2,
+                                 const S& s2) const {
+  std::vector<S> e(4 * xi_.size());
+  gauss_strains(d, R1, s1, R2, s2, std::span<S>(e));
+  S U(0.0);
+  for (std::size_t g = 0; g < xi_.size(); ++g) {
+    const S *x = &e[4 * g];
+    U += ((x[0] * x[0]) * ea_ + (x[1] * x[1]) * stiffness_(0) + (x[2] * x[2]) * stiffness_(1) +
+          (x[3] * x[3]) * stiffness_(2)) *
+         (0.5 * L_ * w_[g]);
   }
   return U;
 }

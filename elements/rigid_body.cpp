@@ -13,6 +13,8 @@ namespace latticedyn {
 void RigidBodyProperties::validate() const {
   if (!(std::isfinite(mass) && mass > 0)) throw std::invalid_argument("mass must be positive");
   if (!centroid.allFinite()) throw std::invalid_argument("centroid must be finite");
+  if (!(std::isfinite(damping_alpha) && damping_alpha >= 0))
+    throw std::invalid_argument("damping alpha must be a number >= 0 (1/s)");
   const Mat3& J = inertia_centroid;
   if (!J.allFinite() || (J - J.transpose()).cwiseAbs().maxCoeff() > 1e-12 * J.cwiseAbs().maxCoeff())
     throw std::invalid_argument("inertia must be a finite symmetric matrix");

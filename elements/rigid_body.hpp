@@ -10,6 +10,7 @@ struct RigidBodyProperties {
   double mass = 0.0;
   Vec3 centroid = Vec3::Zero();            ///< centroid in the body frame, relative to the origin
   Mat3 inertia_centroid = Mat3::Zero();    ///< inertia tensor about the centroid, body axes
+  double damping_alpha = 0.0;              ///< mass-proportional (Rayleigh alpha) damping [1/s]
   /// Throws std::invalid_argument unless mass > 0 and the inertia is symmetric positive
   /// definite and satisfies the triangle inequalities of a physical body.
   void validate() const;
@@ -21,6 +22,8 @@ struct RigidBodyProperties {
 ///   r_r = Theta_0 omega_dot + omega x Theta_0 omega + m c x R^T (r0_ddot - g).
 /// (The thesis's printed D_e and C-2 carry a sign error in the centripetal term; this form is
 /// derived from the kinematics r = r0 + R rho and checked by energy and momentum tests.)
+/// Damping alpha adds alpha M(q) v, alpha times the body's momentum and angular momentum about
+/// the origin: a viscous drag on its absolute motion (a rigid body has no stiffness for beta).
 class RigidBody final : public AutoDiffElement<RigidBody, 6> {
  public:
   static constexpr std::array<SlotKind, 2> kSlots = {SlotKind::translation, SlotKind::rotation};
@@ -47,6 +50,12 @@ class RigidBody final : public AutoDiffElement<RigidBody, 6> {
     const S m(props_.mass);
     r.template head<3>() = m * (a_rel + R * (wd.cross(c) + w.cross(w.cross(c))));
     r.template tail<3>() = J0 * wd + w.cross(J0 * w) + m * c.cross(R.transpose() * a_rel);
+    if (props_.damping_alpha > 0) {
+      const S alpha(props_.damping_alpha);
+      const Vec3T<S>& v0 = s[0].vel;
+      r.template head<3>() += alpha * m * (v0 + R * w.cross(c));
+      r.template tail<3>() += alpha * (J0 * w + m * c.cross(R.transpose() * v0));
+    }
   }
 
  private:

@@ -4,6 +4,7 @@
 
 #include "core/quadrature.hpp"
 #include "elements/energy_ad.hpp"
+#include "elements/strain_rate_damping.hpp"
 
 #include <cmath>
 #include <cstdio>
@@ -43,6 +44,9 @@ void RopeProperties::validate() const {
     throw std::invalid_argument("rope rest length must be positive");
   if (!(fraction > 0)) throw std::invalid_argument("rope length fraction must be positive");
   if (gauss_points < 1 || gauss_points > 64) throw std::invalid_argument("rope Gauss points must be 1..64");
+  material.damping.validate();
+  if (material.damping.alpha != 0)
+    throw std::invalid_argument("a rope takes stiffness-proportional damping only (beta, or a ratio at one frequency), not alpha");
 }
 
 Rope::Rope(RopeProperties p) : props_(std::move(p)) {
@@ -104,6 +108,46 @@ void Rope::inertia_and_gravity(std::span<const SlotState<double>> s, const Eleme
     }
 }
 
+void Rope::add_damping(std::span<const SlotState<double>> s, const ElementContext& ctx, Eigen::Ref<VecX> r,
+                       ElementTangents* t) const {
+  const double beta = props_.material.damping.beta;
+  if (!(beta > 0) || ctx.at_rest) return;
+  // Variables d = r2 - r1, r1', r2' and the rest length L0, whose rate the drive gives: a rope
+  // paid out at constant tension has eps_dot = 0 although its slopes' rates are not zero.
+  const DriveValue L = rest_length(ctx.time);
+  Eigen::Matrix<double, 10, 1> v;
+  v << s[2].vel - s[0].vel, s[1].vel, s[3].vel, L.rate;
+  const int ng = static_cast<int>(xi_.size());
+  MatX Cd = MatX::Zero(ng, ng);
+  Eigen::Matrix<double, 10, 1> f = Eigen::Matrix<double, 10, 1>::Zero();
+  static const Eigen::Matrix<double, 12, 9> P = energy_to_dofs();
+  const Vec3 d = s[2].pos - s[0].pos;
+  auto fill = [&](const auto& ad, auto& eps) {
+    const auto Ls = ad.scalar(L.value, 9);
+    const auto dd = ad.vec(d, 0), t1 = ad.vec(s[1].pos, 3), t2 = ad.vec(s[3].pos, 6);
+    for (int g = 0; g < ng; ++g) {
+      eps[static_cast<std::size_t>(g)] = gauss_strain(dd, t1, t2, Ls, static_cast<std::size_t>(g));
+      if (eps[static_cast<std::size_t>(g)].v >= -kSlackTolerance) Cd(g, g) = beta * ea_ * L.value * w_[static_cast<std::size_t>(g)];
+    }
+  };
+  if (!t) {
+    const EnergyAD<10>::FirstOrder ad;
+    std::vector<Dual<10>> eps(static_cast<std::size_t>(ng));
+    fill(ad, eps);
+    add_strain_rate_damping_force<10>(eps, Cd, v, f);
+    r += P * f.head<9>();
+    return;
+  }
+  const EnergyAD<10>::SecondOrder ad;
+  std::vector<HyperDual<10>> eps(static_cast<std::size_t>(ng));
+  fill(ad, eps);
+  Eigen::Matrix<double, 10, 10> K = Eigen::Matrix<double, 10, 10>::Zero(), C = Eigen::Matrix<double, 10, 10>::Zero();
+  add_strain_rate_damping<10>(eps, ad, Cd, v, f, K, C);
+  r += P * f.head<9>();
+  t->K += P * K.topLeftCorner<9, 9>() * P.transpose();
+  t->C += P * C.topLeftCorner<9, 9>() * P.transpose();
+}
+
 void Rope::residual(std::span<const SlotState<double>> s, const ElementContext& ctx, Eigen::Ref<VecX> r) const {
   inertia_and_gravity(s, ctx, r, nullptr);
   RopeAD::FirstOrder ad;
@@ -113,6 +157,7 @@ void Rope::residual(std::span<const SlotState<double>> s, const ElementContext& 
   RopeAD::extract(U, nullptr, &g);
   static const Eigen::Matrix<double, 12, 9> P = energy_to_dofs();
   r += P * g;
+  add_damping(s, ctx, r, nullptr);
 }
 
 void Rope::tangents(std::span<const SlotState<double>> s, const ElementContext& ctx, ElementTangents& out) const {
@@ -127,6 +172,7 @@ void Rope::tangents(std::span<const SlotState<double>> s, const ElementContext& 
   static const Eigen::Matrix<double, 12, 9> P = energy_to_dofs();
   out.residual += P * g;
   out.K += P * K * P.transpose();
+  add_damping(s, ctx, out.residual, &out);
 }
 
 ElementEnergy Rope::energy(std::span<const SlotState<double>> s, const ElementContext& ctx) const {
@@ -147,10 +193,18 @@ ElementEnergy Rope::energy(std::span<const SlotState<double>> s, const ElementCo
 }
 
 std::optional<double> Rope::axial_force(std::span<const SlotState<double>> s, const ElementContext& ctx) const {
-  const double L0 = rest_length(ctx.time).value;
+  const DriveValue L = rest_length(ctx.time);
   // dr/dS at the middle, xi = 1/2: (1.5 (r2 - r1))/L0 - r1'/4 - r2'/4.
-  const Vec3 rs = 1.5 * (s[2].pos - s[0].pos) / L0 - 0.25 * (s[1].pos + s[3].pos);
-  return ea_ * std::max(rs.norm() - 1.0, 0.0);
+  const Vec3 d = s[2].pos - s[0].pos;
+  const Vec3 rs = 1.5 * d / L.value - 0.25 * (s[1].pos + s[3].pos);
+  const double eps = rs.norm() - 1.0;
+  if (eps < 0) return 0.0;
+  const double beta = props_.material.damping.beta;
+  if (!(beta > 0)) return ea_ * eps;
+  // The viscous part of the tension, beta E A eps_dot.
+  const Vec3 rs_dot = 1.5 * (s[2].vel - s[0].vel) / L.value - 1.5 * d * L.rate / (L.value * L.value) -
+                      0.25 * (s[1].vel + s[3].vel);
+  return std::max(ea_ * (eps + beta * rs.dot(rs_dot) / rs.norm()), 0.0);
 }
 
 std::vector<Vec3> Rope::axis_points(std::span<const SlotState<double>> s, const ElementContext& ctx) const {

@@ -30,6 +30,9 @@ struct RopeProperties {
 /// so paying rope out adds mass; with L0(t) driven, r_dot includes L0_dot H2 r1' and the
 /// accelerations L0_ddot and 2 L0_dot terms (the rope's axial transport through its ends is not
 /// modelled). Gravity as the consistent load of the cubic.
+/// Damping: the material's Rayleigh beta as a viscous axial stress beta E eps_dot where the rope
+/// is taut (a slack rope dissipates nothing); a mass-proportional alpha is refused (it would
+/// drag the hanging load's swing through the rope's own mass).
 class Rope final : public Element {
  public:
   /// Strains above -kSlackTolerance count as tension (round-off of an unstressed rope).
@@ -48,7 +51,7 @@ class Rope final : public Element {
   void tangents(std::span<const SlotState<double>> state, const ElementContext& ctx,
                 ElementTangents& out) const override;
   ElementEnergy energy(std::span<const SlotState<double>> state, const ElementContext& ctx) const override;
-  /// Tension at mid-element (tension only: never negative).
+  /// Tension at mid-element, elastic plus viscous (tension only: never negative).
   std::optional<double> axial_force(std::span<const SlotState<double>> state,
                                     const ElementContext& ctx) const override;
   std::vector<Vec3> axis_points(std::span<const SlotState<double>> state, const ElementContext& ctx) const override;
@@ -60,8 +63,15 @@ class Rope final : public Element {
 
   template <class S>
   S strain_energy(const Vec3T<S>& d, const Vec3T<S>& t1, const Vec3T<S>& t2, double L0) const;
+  /// The axial strain |dr/dS| - 1 at Gauss point g (L0 a double, or a number of the AD type).
+  template <class S, class L>
+  S gauss_strain(const Vec3T<S>& d, const Vec3T<S>& t1, const Vec3T<S>& t2, const L& L0, std::size_t g) const;
 
  private:
+  /// Adds the Kelvin-Voigt force beta E A eps_dot of the taut Gauss points to r and, with t, its
+  /// K and C; eps_dot includes the strain rate of a driven rest length.
+  void add_damping(std::span<const SlotState<double>> s, const ElementContext& ctx, Eigen::Ref<VecX> r,
+                   ElementTangents* t) const;
   void inertia_and_gravity(std::span<const SlotState<double>> s, const ElementContext& ctx, Eigen::Ref<VecX> r,
                            ElementTangents* t) const;
 
@@ -71,16 +81,21 @@ class Rope final : public Element {
   std::vector<double> xi_, w_;    ///< Gauss points on [0, 1]
 };
 
+template <class S, class L>
+S Rope::gauss_strain(const Vec3T<S>& d, const Vec3T<S>& t1, const Vec3T<S>& t2, const L& L0, std::size_t g) const {
+  using std::sqrt;
+  const double x = xi_[g], x2 = x * x;
+  // dr/dS = (dH1/dxi r1 + dH3/dxi r2)/L0 + dH2/dxi r1' + dH4/dxi r2'; dH3 = -dH1.
+  const double dh1 = 6 * x - 6 * x2, dh2 = 1 - 4 * x + 3 * x2, dh4 = 3 * x2 - 2 * x;
+  const Vec3T<S> rs = d * (dh1 / L0) + t1 * dh2 + t2 * dh4;  // constants as doubles: cheap AD products
+  return sqrt(rs.squaredNorm()) - 1.0;
+}
+
 template <class S>
 S Rope::strain_energy(const Vec3T<S>& d, const Vec3T<S>& t1, const Vec3T<S>& t2, double L0) const {
-  using std::sqrt;
   S U(0.0);
   for (std::size_t g = 0; g < xi_.size(); ++g) {
-    const double x = xi_[g], x2 = x * x;
-    // dr/dS = (dH1/dxi r1 + dH3/dxi r2)/L0 + dH2/dxi r1' + dH4/dxi r2'; dH3 = -dH1.
-    const double dh1 = 6 * x - 6 * x2, dh2 = 1 - 4 * x + 3 * x2, dh4 = 3 * x2 - 2 * x;
-    const Vec3T<S> rs = d * (dh1 / L0) + t1 * dh2 + t2 * dh4;  // constants as doubles: cheap AD products
-    const S eps = sqrt(rs.squaredNorm()) - 1.0;
+    const S eps = gauss_strain(d, t1, t2, L0, g);
     // Zero strain counts as tension, to round-off: an unstressed straight rope (the usual start)
     // then has its axial stiffness at every Gauss point, instead of losing the points whose
     // strain rounds to -1e-16 and with them the tangent's rank.

@@ -22,6 +22,7 @@ void Material::validate() const {
   require(positive(youngs_modulus), "youngs_modulus must be a positive number (Pa)");
   require(std::isfinite(poisson_ratio) && poisson_ratio > -1.0 && poisson_ratio < 0.5,
           "poisson_ratio must lie in (-1, 0.5)");
+  damping.validate();
 }
 
 void SectionProperties::validate() const {

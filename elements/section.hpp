@@ -2,12 +2,15 @@
 // custom), kept apart from the elements that use them.
 #pragma once
 
+#include "elements/rayleigh_damping.hpp"
+
 namespace latticedyn {
 
 struct Material {
   double density = 0.0;         ///< rho [kg/m^3]
   double youngs_modulus = 0.0;  ///< E [Pa]
   double poisson_ratio = 0.0;   ///< nu [-]
+  RayleighDamping damping;      ///< alpha M + beta K of every element made of it
 
   double shear_modulus() const { return youngs_modulus / (2.0 * (1.0 + poisson_ratio)); }
   /// Throws std::invalid_argument naming the first meaningless value.

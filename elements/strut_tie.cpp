@@ -48,18 +48,19 @@ void StrutTie::tangents(std::span<const SlotState<double>> s, const ElementConte
   // rates; the tangents of the element follow from F_d, F_v, F_a by the signs of d.
   const Vec3 d = s[1].pos - s[0].pos, v = s[1].vel - s[0].vel, a = s[1].acc - s[0].acc;
   const double l2 = d.squaredNorm(), l = std::sqrt(l2), L0 = props_.rest_length, h = props_.smoothing;
+  const double visc = h / 2 + props_.material.damping.beta;  // coefficient of eps_dot in the stress's strain
   const Vec3 n = d / l;
   const Mat3 P = Mat3::Identity() - n * n.transpose();
   const double nv = n.dot(v), na = n.dot(a);
   const Vec3 Pv = P * v, Pa = P * a;
   const double eps = l / L0 - 1, eps_dot = nv / L0, eps_ddot = (na + Pv.squaredNorm() / l) / L0;
-  const double N = ea_ * (eps + h / 2 * eps_dot + h * h / 6 * eps_ddot);
+  const double N = ea_ * (eps + visc * eps_dot + h * h / 6 * eps_ddot);
 
   // dN/d(d), dN/dv, dN/da (row vectors) and the axial force's derivatives, d(N n) = n dN + N P/l dd.
   const Eigen::RowVector3d vP = Pv.transpose(), aP = Pa.transpose(), nt = n.transpose();
   const Eigen::RowVector3d dN_dd =
-      ea_ / L0 * (nt + h / 2 * vP / l + h * h / 6 * (aP / l - 2 * nv / l2 * vP - Pv.squaredNorm() / l2 * nt));
-  const Eigen::RowVector3d dN_dv = ea_ / L0 * (h / 2 * nt + h * h / 3 * vP / l);
+      ea_ / L0 * (nt + visc * vP / l + h * h / 6 * (aP / l - 2 * nv / l2 * vP - Pv.squaredNorm() / l2 * nt));
+  const Eigen::RowVector3d dN_dv = ea_ / L0 * (visc * nt + h * h / 3 * vP / l);
   const Eigen::RowVector3d dN_da = ea_ / L0 * (h * h / 6) * nt;
   Mat3 Fd = n * dN_dd + N / l * P;
   Mat3 Fv = n * dN_dv;
@@ -78,6 +79,12 @@ void StrutTie::tangents(std::span<const SlotState<double>> s, const ElementConte
     Fv += -2 * c / l * (Pv * nt + nv * P);
     Fa += c * P;
     F += c * y;
+    const double alpha = props_.material.damping.alpha;
+    if (alpha > 0) {  // alpha c P v, the rotary part of alpha M(d) v
+      Fd += alpha * (Pv * (-2 * c / l * nt) + c * dPv);
+      Fv += alpha * c * P;
+      F += alpha * c * Pv;
+    }
   }
 
   out.resize(6);
@@ -97,6 +104,15 @@ void StrutTie::tangents(std::span<const SlotState<double>> s, const ElementConte
   out.M.bottomRightCorner<3, 3>().diagonal().array() += 2 * m6;
   out.M.topRightCorner<3, 3>().diagonal().array() += m6;
   out.M.bottomLeftCorner<3, 3>().diagonal().array() += m6;
+  const double a6 = props_.material.damping.alpha * m6;
+  if (a6 > 0) {
+    out.residual.head<3>() += a6 * (2 * s[0].vel + s[1].vel);
+    out.residual.tail<3>() += a6 * (s[0].vel + 2 * s[1].vel);
+    out.C.topLeftCorner<3, 3>().diagonal().array() += 2 * a6;
+    out.C.bottomRightCorner<3, 3>().diagonal().array() += 2 * a6;
+    out.C.topRightCorner<3, 3>().diagonal().array() += a6;
+    out.C.bottomLeftCorner<3, 3>().diagonal().array() += a6;
+  }
 }
 
 std::optional<double> StrutTie::axial_force(std::span<const SlotState<double>> s, const ElementContext&) const {

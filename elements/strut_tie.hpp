@@ -23,6 +23,8 @@ struct StrutTieProperties {
 /// of the bar's rotation about its axis' normals, with I_m = (Iy + Iz)/2: the bar's roll is not
 /// a DoF, so only this axisymmetric part is well defined (the thesis's frame choice (3-9) is
 /// singular when the bar points along -x). Mass stays constant as the bar stretches (3.2.1, 4).
+/// Damping: the material's Rayleigh beta adds beta eps_dot to the stress's strain (Kelvin-Voigt,
+/// like the smoothing's h/2 eps_dot), alpha adds alpha times the generalized momentum M(d) v.
 class StrutTie final : public AutoDiffElement<StrutTie, 6> {
  public:
   static constexpr std::array<SlotKind, 2> kSlots = {SlotKind::translation, SlotKind::translation};
@@ -64,6 +66,19 @@ class StrutTie final : public AutoDiffElement<StrutTie, 6> {
       r.template head<3>() -= Q;
       r.template tail<3>() += Q;
     }
+    const double alpha = props_.material.damping.alpha;
+    if (alpha > 0) {
+      // alpha times the generalized momentum M(d) v: the consistent translational mass and the
+      // rotary part c P d_dot.
+      const S a6(alpha * mass_ / 6.0);
+      r.template head<3>() += a6 * (S(2) * s[0].vel + s[1].vel);
+      r.template tail<3>() += a6 * (s[0].vel + S(2) * s[1].vel);
+      if (rotary_inertia_ > 0.0) {
+        const Vec3T<S> p = (S(alpha * rotary_inertia_) / l2) * (dv - n * n.dot(dv));
+        r.template head<3>() -= p;
+        r.template tail<3>() += p;
+      }
+    }
   }
 
   /// Closed-form tangents (the AD ones of AutoDiffElement cost ~50 residuals); tests compare them
@@ -88,7 +103,7 @@ class StrutTie final : public AutoDiffElement<StrutTie, 6> {
     const S eps_dot = nv / L0;
     const S eps_ddot = (n.dot(da) + (dv.squaredNorm() - nv * nv) / l) / L0;
     const S h(props_.smoothing);
-    return S(ea_) * (eps + h / S(2) * eps_dot + h * h / S(6) * eps_ddot);
+    return S(ea_) * (eps + (h / S(2) + S(props_.material.damping.beta)) * eps_dot + h * h / S(6) * eps_ddot);
   }
 
   StrutTieProperties props_;

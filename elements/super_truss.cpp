@@ -15,6 +15,11 @@ namespace {
 
 const TrussSectionSpec& validated(const TrussSectionSpec& spec) {
   spec.validate();
+  // Its members' deformation rates need the node map's second derivatives contracted with the
+  // coordinates' rates, which the element does not form yet: refused rather than ignored.
+  if (spec.material.damping.active())
+    throw std::invalid_argument("damping is not available for super truss elements yet (use a lattice body, every "
+                                "member a beam, or damp the crane through its ropes and joints)");
   return spec;
 }
 

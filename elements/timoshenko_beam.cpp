@@ -2,6 +2,8 @@
 // form inertia and gravity.
 #include "elements/timoshenko_beam.hpp"
 
+#include "elements/strain_rate_damping.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -60,11 +62,76 @@ void TimoshenkoBeam::inertia(std::span<const SlotState<double>> s, const Element
   }
 }
 
+namespace {
+
+// The local stiffness of the co-rotated deformation e = (u, theta_1, theta_2): U = e^T K_l e / 2.
+MatX local_stiffness(const CorotationalStiffness& k) {
+  MatX K = MatX::Zero(7, 7);
+  K(0, 0) = k.ea;
+  K(1, 1) = K(4, 4) = k.gj;
+  K(1, 4) = K(4, 1) = -k.gj;
+  K(2, 2) = K(5, 5) = k.ky[0];
+  K(2, 5) = K(5, 2) = k.ky[1];
+  K(3, 3) = K(6, 6) = k.kz[0];
+  K(3, 6) = K(6, 3) = k.kz[1];
+  return K;
+}
+
+template <class S>
+std::array<S, 7> deformation_measures(const CorotationalDeformation<S>& def) {
+  return {def.u, def.th1(0), def.th1(1), def.th1(2), def.th2(0), def.th2(1), def.th2(2)};
+}
+
+}  // namespace
+
+void TimoshenkoBeam::add_damping(std::span<const SlotState<double>> s, const ElementContext& ctx, Eigen::Ref<VecX> r,
+                                 ElementTangents* t) const {
+  const RayleighDamping& damping = props_.material.damping;
+  if (!damping.active() || ctx.at_rest) return;
+  if (damping.alpha > 0) {
+    const double a6 = damping.alpha * mass_ / 6.0;
+    r.segment<3>(0) += a6 * (2 * s[0].vel + s[2].vel);
+    r.segment<3>(6) += a6 * (s[0].vel + 2 * s[2].vel);
+    for (int e = 0; e < 2; ++e) r.segment<3>(3 + 6 * e) += damping.alpha * rotary_.cwiseProduct(s[1 + 2 * e].vel);
+    if (t) {
+      for (int a = 0; a < 2; ++a) {
+        for (int b = 0; b < 2; ++b) t->C.block<3, 3>(6 * a, 6 * b).diagonal().array() += (a == b ? 2 : 1) * a6;
+        t->C.block<3, 3>(3 + 6 * a, 3 + 6 * a).diagonal() += damping.alpha * rotary_;
+      }
+    }
+  }
+  if (damping.beta <= 0) return;
+  const MatX Cd = damping.beta * local_stiffness(stiffness_);
+  Vec9 v;
+  v << s[2].vel - s[0].vel, s[1].vel, s[3].vel;
+  Vec9 f = Vec9::Zero();
+  const Vec3 d = s[2].pos - s[0].pos;
+  if (!t) {
+    using Seeds = EnergyAD<9>::FirstOrder;
+    Seeds ad;
+    const auto def = corotational_deformation<Seeds::S>(stiffness_, ad.vec(d, 0), ad.rot(s[1].rot, 3), ad.rot(s[3].rot, 6));
+    const auto e = deformation_measures(def);
+    add_strain_rate_damping_force<9>(e, Cd, v, f);
+    r += expand_force(f);
+    return;
+  }
+  using Seeds = EnergyAD<9>::SecondOrder;
+  Seeds ad;
+  const auto def = corotational_deformation<Seeds::S>(stiffness_, ad.vec(d, 0), ad.rot(s[1].rot, 3), ad.rot(s[3].rot, 6));
+  const auto e = deformation_measures(def);
+  Mat9 K = Mat9::Zero(), C = Mat9::Zero();
+  add_strain_rate_damping<9>(e, ad, Cd, v, f, K, C);
+  r += expand_force(f);
+  add_expanded(K, t->K);
+  add_expanded(C, t->C);
+}
+
 void TimoshenkoBeam::residual(std::span<const SlotState<double>> s, const ElementContext& ctx, Eigen::Ref<VecX> r) const {
   inertia(s, ctx, r, nullptr);
   Vec9 f;
   elastic_force(s[2].pos - s[0].pos, s[1].rot, s[3].rot, f, nullptr);
   r += expand_force(f);
+  add_damping(s, ctx, r, nullptr);
 }
 
 void TimoshenkoBeam::tangents(std::span<const SlotState<double>> s, const ElementContext& ctx, ElementTangents& out) const {
@@ -75,6 +142,7 @@ void TimoshenkoBeam::tangents(std::span<const SlotState<double>> s, const Elemen
   elastic_force(s[2].pos - s[0].pos, s[1].rot, s[3].rot, f, &K);
   out.residual += expand_force(f);
   add_expanded(K, out.K);
+  add_damping(s, ctx, out.residual, &out);
 }
 
 namespace {
@@ -112,6 +180,7 @@ void TimoshenkoBeam::residual_batch(std::span<const Element* const> elements,
     out[b].resize(12);
     beam.inertia(states[b], ctx, out[b], nullptr);
     out[b] += expand_force(lane(lanes.force.f, static_cast<int>(b)));
+    beam.add_damping(states[b], ctx, out[b], nullptr);
   }
 }
 
@@ -128,6 +197,7 @@ void TimoshenkoBeam::tangents_batch(std::span<const Element* const> elements,
     beam.inertia(states[b], ctx, t.residual, &t);
     t.residual += expand_force(lane(lanes.force.f, static_cast<int>(b)));
     add_expanded(lane(K9, static_cast<int>(b)), t.K);
+    beam.add_damping(states[b], ctx, t.residual, &t);
   }
 }
 

@@ -32,6 +32,12 @@ struct BeamProperties {
 /// Inertia: translations with the consistent mass of linear interpolation, rho A L0/6 [2I I; I 2I];
 /// rotary inertia of each half lumped at its end section, J = rho L0/2 diag(Iy + Iz, Iy, Iz),
 /// with the gyroscopic term omega x J omega. Gravity: half the weight on each end.
+///
+/// Damping (the material's Rayleigh alpha, beta): alpha times the mass matrix above on the
+/// absolute velocities; beta as Kelvin-Voigt damping of the co-rotated deformation
+/// (u, theta_1, theta_2) with the local stiffness, f = beta J^T K_l J v (J = d(u, theta)/dq):
+/// beta K on the deformation rates, zero on rigid motion even under load (beta K_T v would damp
+/// a prestressed beam's rigid rotation through its geometric stiffness).
 class TimoshenkoBeam final : public Element {
  public:
   static constexpr int kAxisPoints = 5;  ///< points along a drawn axis
@@ -82,6 +88,9 @@ class TimoshenkoBeam final : public Element {
  private:
   void inertia(std::span<const SlotState<double>> s, const ElementContext& ctx, Eigen::Ref<VecX> r,
                ElementTangents* t) const;
+  /// Adds the Rayleigh damping force to r and, with t, its K and C (nothing when undamped or at rest).
+  void add_damping(std::span<const SlotState<double>> s, const ElementContext& ctx, Eigen::Ref<VecX> r,
+                   ElementTangents* t) const;
 
   BeamProperties props_;
   double mass_ = 0.0;

@@ -24,7 +24,9 @@ RigidBodyProperties read_mass_properties(const ReaderContext& ctx, const InputNo
     if (s.shape != SectionProperties::Shape::round_tube)
       n["section"].fail("a rigid body built from a section needs a round_tube section (a cylinder along x)");
     const Material m = ctx.material(n["material"]);
-    return cylinder_body(m.density, n["length"].as_positive(), s.outer_radius, s.inner_radius);
+    p = cylinder_body(m.density, n["length"].as_positive(), s.outer_radius, s.inner_radius);
+    p.damping_alpha = m.damping.alpha;  // a rigid body has no stiffness for the material's beta
+    return p;
   }
   if (n.has("material")) n["material"].fail("a material applies to a rigid body built from section and length, not to one with mass and inertia");
   p.mass = n["mass"].as_positive();
@@ -44,8 +46,14 @@ RigidBodyProperties read_mass_properties(const ReaderContext& ctx, const InputNo
 
 void read_rigid_body(ReaderContext& ctx, const InputNode& n, const std::string& name) {
   n.allow_only({"name", "type", "mass", "inertia", "centroid", "section", "material", "length", "position", "rotation",
-                "rotation_deg", "axis_angle", "cardan_zyx_deg", "velocity", "angular_velocity", "joints", "draw"});
-  const RigidBodyProperties props = read_mass_properties(ctx, n);
+                "rotation_deg", "axis_angle", "cardan_zyx_deg", "velocity", "angular_velocity", "joints", "draw",
+                "damping"});
+  RigidBodyProperties props = read_mass_properties(ctx, n);
+  if (auto d = n.get("damping")) {
+    const RayleighDamping damping = read_damping(*d);
+    if (damping.beta > 0) d->fail("a rigid body has no stiffness to damp: give alpha (1/s), the mass-proportional part");
+    props.damping_alpha = damping.alpha;
+  }
   const int body = ctx.builder.add_body(name, "rigid_body");
   ctx.bodies[name] = BodyRecord{body, "rigid_body", {}};
   const int t = ctx.builder.add_block(DofBlock::translation(n.get_vec3("position", Vec3::Zero()), n.get_vec3("velocity", Vec3::Zero()), name));
@@ -85,9 +93,9 @@ void read_rigid_body(ReaderContext& ctx, const InputNode& n, const std::string& 
 }
 
 void read_strut_tie(ReaderContext& ctx, const InputNode& n, const std::string& name) {
-  n.allow_only({"name", "type", "material", "section", "ends", "rest_length", "smoothing", "velocities"});
+  n.allow_only({"name", "type", "material", "section", "ends", "rest_length", "smoothing", "velocities", "damping"});
   StrutTieProperties p;
-  p.material = ctx.material(n["material"]);
+  p.material = ctx.body_material(n);
   p.section = ctx.section(n["section"]);
   const InputNode ends = n["ends"];
   const auto e = ends.items();

@@ -90,13 +90,13 @@ void read_beam(ReaderContext& ctx, const InputNode& n, const std::string& name, 
   const bool spline = type == "cubic_spline_beam";
   if (spline)
     n.allow_only({"name", "type", "material", "section", "ends", "elements", "up", "gauss_points", "velocity",
-                  "angular_velocity", "joints"});
+                  "angular_velocity", "joints", "damping"});
   else
     n.allow_only({"name", "type", "material", "section", "ends", "elements", "up", "shear_coefficient", "velocity",
-                  "angular_velocity", "joints"});
+                  "angular_velocity", "joints", "damping"});
   const MemberGeometry g = read_geometry(n);
   BeamProperties beam;
-  beam.material = ctx.material(n["material"]);
+  beam.material = ctx.body_material(n);
   beam.section = ctx.section(n["section"]);
   beam.length = g.length() / g.elements;
   beam.shear_coefficient = n.get_positive("shear_coefficient", 0.0);
@@ -134,10 +134,14 @@ void read_beam(ReaderContext& ctx, const InputNode& n, const std::string& name, 
 
 void read_rope(ReaderContext& ctx, const InputNode& n, const std::string& name) {
   n.allow_only({"name", "type", "material", "section", "ends", "elements", "rest_length", "rest_length_drive",
-                "initial_sag", "gauss_points", "velocities", "joints"});
+                "initial_sag", "gauss_points", "velocities", "joints", "damping"});
   const MemberGeometry g = read_geometry(n);
   RopeProperties p;
-  p.material = ctx.material(n["material"]);
+  p.material = ctx.body_material(n);
+  if (p.material.damping.alpha != 0)
+    (n.has("damping") ? n["damping"] : n["material"])
+        .fail("a rope takes stiffness-proportional damping only (beta, or a ratio at one frequency), not alpha: alpha "
+              "would drag the load's swing through the rope's mass");
   p.section = ctx.section(n["section"]);
   double L0 = g.length();
   if (n.has("rest_length") && n.has("rest_length_drive"))

@@ -3,16 +3,43 @@
 
 #include "core/rotation.hpp"
 
+#include <numbers>
+#include <stdexcept>
+
 namespace latticedyn {
 
+RayleighDamping read_damping(const InputNode& n) {
+  n.allow_only({"alpha", "beta", "ratio", "frequency"});
+  const bool coefficients = n.has("alpha") || n.has("beta");
+  if (coefficients && (n.has("ratio") || n.has("frequency")))
+    n.fail("give either alpha and beta, or ratio and frequency, not both");
+  if (coefficients) return RayleighDamping{n.get_non_negative("alpha", 0.0), n.get_non_negative("beta", 0.0)};
+  const InputNode ratio = n["ratio"], frequency = n["frequency"];
+  constexpr double two_pi = 2.0 * std::numbers::pi;
+  if (!ratio.is_sequence()) {
+    if (frequency.is_sequence()) frequency.fail("expected one frequency in Hz for one damping ratio");
+    return rayleigh_from_ratio(ratio.as_non_negative(), two_pi * frequency.as_positive());
+  }
+  const auto zs = ratio.items(), fs = frequency.items();
+  if (zs.size() != 2) ratio.fail("expected one damping ratio, or two [zeta1, zeta2] for two frequencies");
+  if (!frequency.is_sequence() || fs.size() != 2) frequency.fail("expected two frequencies [f1, f2] in Hz for two damping ratios");
+  try {
+    return rayleigh_from_ratios(zs[0].as_non_negative(), two_pi * fs[0].as_positive(), zs[1].as_non_negative(),
+                                two_pi * fs[1].as_positive());
+  } catch (const std::invalid_argument& e) {
+    n.fail(e.what());
+  }
+}
+
 Material read_material(const InputNode& n) {
-  n.allow_only({"density", "youngs_modulus", "poisson_ratio"});
+  n.allow_only({"density", "youngs_modulus", "poisson_ratio", "damping"});
   Material m;
   m.density = n["density"].as_positive();
   m.youngs_modulus = n["youngs_modulus"].as_positive();
   const InputNode nu = n["poisson_ratio"];
   m.poisson_ratio = nu.as_double();
   if (!(m.poisson_ratio > -1.0 && m.poisson_ratio < 0.5)) nu.fail("expected a Poisson ratio in (-1, 0.5)");
+  if (auto d = n.get("damping")) m.damping = read_damping(*d);
   return m;
 }
 
@@ -42,6 +69,12 @@ Material ReaderContext::material(const InputNode& n) const {
   const auto it = materials.find(name);
   if (it == materials.end()) n.fail("no material named '" + name + "' (define it under 'materials')");
   return it->second;
+}
+
+Material ReaderContext::body_material(const InputNode& body) const {
+  Material m = material(body["material"]);
+  if (auto d = body.get("damping")) m.damping = read_damping(*d);
+  return m;
 }
 
 SectionProperties ReaderContext::section(const InputNode& n) const {

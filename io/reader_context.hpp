@@ -54,6 +54,9 @@ class ReaderContext {
 
   /// A material given by name (from `materials`) or inline as a map.
   Material material(const InputNode& n) const;
+  /// The material of a body (its `material` key) with the body's own `damping`, if given, in
+  /// place of the material's.
+  Material body_material(const InputNode& body) const;
   /// A section given by name (from `sections`) or inline as a map.
   SectionProperties section(const InputNode& n) const;
   /// "body.joint" -> model joint index.
@@ -67,6 +70,9 @@ class ReaderContext {
 };
 
 Material read_material(const InputNode& n);
+/// `damping`: {alpha, beta}, or {ratio, frequency} (one ratio: stiffness-proportional at that
+/// frequency in Hz; two ratios at two frequencies: alpha and beta).
+RayleighDamping read_damping(const InputNode& n);
 SectionProperties read_section(const InputNode& n);
 
 }  // namespace latticedyn

@@ -12,11 +12,13 @@ namespace latticedyn {
 ModalAnalysis::ModalAnalysis(SystemAssembler& sa, ModalSettings settings) : sa_(sa), settings_(settings) {
   PetscCallAbort(sa_.comm(), sa_.create_matrix(&K_));
   PetscCallAbort(sa_.comm(), sa_.create_matrix(&M_));
+  PetscCallAbort(sa_.comm(), sa_.create_matrix(&C_));
 }
 
 ModalAnalysis::~ModalAnalysis() {
   MatDestroy(&K_);
   MatDestroy(&M_);
+  MatDestroy(&C_);
 }
 
 PetscErrorCode ModalAnalysis::solve(Vec U, double t, std::vector<Mode>* modes, std::string* message) {
@@ -35,6 +37,8 @@ PetscErrorCode ModalAnalysis::solve(Vec U, double t, std::vector<Mode>* modes, s
   PetscCall(sa_.jacobian(at, how, 0.0, 0.0, 0.0, K_));
   PetscCall(sa_.jacobian(at, how, 0.0, 0.0, 1.0, M_));
   PetscCall(MatAXPY(M_, -1.0, K_, SAME_NONZERO_PATTERN));
+  PetscCall(sa_.jacobian(at, how, 0.0, 1.0, 0.0, C_));  // the damping matrix at rest, the same way
+  PetscCall(MatAXPY(C_, -1.0, K_, SAME_NONZERO_PATTERN));
   PetscCall(sa_.jacobian(at, how, 1.0, 0.0, 0.0, K_));
   // Multiplier columns times s match the constraint rows s G: [K, s G^T; s G, 0]. Symmetrise the
   // round-off away (the pencil is symmetric at an equilibrium).
@@ -78,6 +82,20 @@ PetscErrorCode ModalAnalysis::solve(Vec U, double t, std::vector<Mode>* modes, s
   const int wanted = std::min<int>(settings_.modes, static_cast<int>(found.size()));
   for (std::size_t i = static_cast<std::size_t>(wanted); i < found.size(); ++i) PetscCall(VecDestroy(&found[i].vector));
   found.resize(static_cast<std::size_t>(wanted));
+  // Modal damping ratios phi^T C phi / (2 omega phi^T M phi): exact for proportional (Rayleigh)
+  // damping, the usual estimate when damping couples the modes.
+  Vec w;
+  PetscCall(MatCreateVecs(K_, &w, nullptr));
+  for (Mode& m : found) {
+    if (!(m.omega2 > 0)) continue;
+    PetscScalar mass, damping;
+    PetscCall(MatMult(M_, m.vector, w));
+    PetscCall(VecDot(w, m.vector, &mass));
+    PetscCall(MatMult(C_, m.vector, w));
+    PetscCall(VecDot(w, m.vector, &damping));
+    if (PetscRealPart(mass) > 0) m.damping_ratio = PetscRealPart(damping) / (2.0 * std::sqrt(m.omega2) * PetscRealPart(mass));
+  }
+  PetscCall(VecDestroy(&w));
   *modes = std::move(found);
   if (message)
     *message = std::to_string(converged) + " eigenpairs converged, " + std::to_string(settings_.modes) + " wanted";

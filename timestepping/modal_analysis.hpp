@@ -21,6 +21,7 @@ struct Mode {
   double omega2 = 0.0;     ///< eigenvalue omega^2 [1/s^2]
   double frequency = 0.0;  ///< sqrt(omega2) / (2 pi) [Hz] (0 for omega2 <= 0)
   double residual = 0.0;   ///< relative residual |K phi - omega^2 M phi| / |K phi| reported by SLEPc
+  double damping_ratio = 0.0;  ///< phi^T C phi / (2 omega phi^T M phi), C the damping at rest
   Vec vector = nullptr;    ///< the mode in the system's unknowns as velocity variables (gather with
                            ///< Parametrization::velocity_variables); owned
 };
@@ -40,7 +41,7 @@ class ModalAnalysis {
  private:
   SystemAssembler& sa_;
   ModalSettings settings_;
-  Mat K_ = nullptr, M_ = nullptr;
+  Mat K_ = nullptr, M_ = nullptr, C_ = nullptr;
 };
 
 /// Frees the modes' vectors.

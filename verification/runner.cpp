@@ -145,7 +145,7 @@ Result evaluate(const InputNode& c, const Trajectory& tr, const std::filesystem:
   const std::string what = c["what"].as_choice({"axial_force", "displacement", "position", "multiplier", "period",
                                                  "energy_drift", "max_violation", "variation", "compare_run",
                                                  "mpi_consistency", "frequency", "buckling_factor", "limit_load",
-                                                 "min_axial_force"});
+                                                 "min_axial_force", "damping_ratio"});
   int rank = 0, size = 1;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &size);
@@ -275,6 +275,12 @@ Result evaluate(const InputNode& c, const Trajectory& tr, const std::filesystem:
       c["time"].fail("no recorded output at this time");
     }
     return compare(c, "position " + label + " at t = " + std::to_string(t), v);
+  }
+  if (what == "damping_ratio") {
+    c.allow_only({"what", "joint", "component", "from", "expected", "abs_tol", "rel_tol"});
+    const double from = c.has("from") ? c["from"].as_double() : -1e300;
+    return compare(c, "damping ratio of " + label + (c.has("from") ? " from t = " + c["from"].as_string() + " s" : ""),
+                   tr.damping_ratio(joint, comp, from));
   }
   if (what == "period") {
     c.allow_only({"what", "joint", "component", "from", "expected", "abs_tol", "rel_tol"});

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <stdexcept>
 
 namespace latticedyn {
@@ -34,6 +35,32 @@ double Trajectory::period(int joint, int component, double from) const {
   }
   if (crossings.size() < 2) return 0.0;
   return (crossings.back() - crossings.front()) / static_cast<double>(crossings.size() - 1);
+}
+
+double Trajectory::damping_ratio(int joint, int component, double from) const {
+  std::vector<double> te, xe;  // extrema
+  for (std::size_t i = 1; i + 1 < time.size(); ++i) {
+    if (time[i - 1] < from) continue;
+    const double a = joints[i - 1][joint](component), b = joints[i][joint](component), c = joints[i + 1][joint](component);
+    if (!((b > a && b >= c) || (b < a && b <= c))) continue;
+    // Vertex of the parabola through the three samples (uniform spacing h assumed locally).
+    const double h = 0.5 * (time[i + 1] - time[i - 1]), curvature = a - 2 * b + c;
+    const double shift = curvature != 0 ? 0.5 * (a - c) / curvature : 0.0;
+    te.push_back(time[i] + shift * h);
+    xe.push_back(b - 0.25 * (a - c) * shift);
+  }
+  if (te.size() < 4) return std::numeric_limits<double>::quiet_NaN();
+  // ln |x_{k+1} - x_k| = const - sigma t, least squares over the half cycles.
+  const std::size_t n = te.size() - 1;
+  double st = 0, sy = 0, stt = 0, sty = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    const double t = 0.5 * (te[k] + te[k + 1]), y = std::log(std::abs(xe[k + 1] - xe[k]));
+    st += t, sy += y, stt += t * t, sty += t * y;
+  }
+  const double sigma = -(n * sty - st * sy) / (n * stt - st * st);
+  const double half_period = (te.back() - te.front()) / static_cast<double>(n);
+  const double omega_d = std::numbers::pi / half_period;
+  return sigma / std::sqrt(sigma * sigma + omega_d * omega_d);
 }
 
 double Trajectory::energy_drift() const {

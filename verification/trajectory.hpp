@@ -27,6 +27,12 @@ struct Trajectory {
   /// Mean period of a joint coordinate from its upward crossings of the mid value, over the
   /// outputs at t >= from.
   double period(int joint, int component, double from = -1e300) const;
+  /// Damping ratio of a decaying oscillation of a joint coordinate over the outputs at t >= from:
+  /// the extrema (refined by a parabola through each sampled extremum and its neighbours), the
+  /// decay rate sigma from a least-squares line through the logarithms of the half-cycle ranges
+  /// |x_{k+1} - x_k| (independent of where the oscillation is centred), the damped frequency from
+  /// the extrema's spacing, zeta = sigma / sqrt(sigma^2 + omega_d^2). NaN with fewer than 4 extrema.
+  double damping_ratio(int joint, int component, double from = -1e300) const;
   /// max |E - E0| / max kinetic energy.
   double energy_drift() const;
 };

@@ -13,6 +13,7 @@
 #include <ostream>
 
 #include <cmath>
+#include <numbers>
 #include <string>
 
 namespace latticedyn {
@@ -146,6 +147,31 @@ TEST(FlexibleBodyReaders, DrivenRopeStartsAsAShallowParabolaOfItsLength) {
   EXPECT_EQ(m.joints[m.find_joint("rope.2")].rotation_block, -1);
 }
 
+// Damping comes from the material and a body's own `damping` replaces it; ratios at frequencies
+// become alpha and beta that give them back (zeta = alpha / (2 omega) + beta omega / 2).
+TEST(FlexibleBodyReaders, DampingFromTheMaterialOrTheBody) {
+  std::string text = kMembers;
+  text.replace(text.find("poisson_ratio: 0.25}"), 20, "poisson_ratio: 0.25, damping: {alpha: 0.1, beta: 0.002}}");
+  text.replace(text.find("gauss_points: 3"), 15, "gauss_points: 3\n    damping: {ratio: [0.02, 0.03], frequency: [1, 10]}");
+  text.replace(text.find("rest_length_drive: hoist"), 24, "rest_length_drive: hoist\n    damping: {ratio: 0.05, frequency: 2}");
+  const Simulation sim = read_simulation_from_string(text, "members.yaml");
+  const Model& m = sim.model;
+  auto material_of = [&](const char* body) -> const Material& {
+    const Element& e = *m.elements[m.bodies[m.find_body(body)].elements[0]].element;
+    if (auto* t = dynamic_cast<const TimoshenkoBeam*>(&e)) return t->properties().material;
+    if (auto* c = dynamic_cast<const CubicSplineBeam*>(&e)) return c->properties().beam.material;
+    return dynamic_cast<const Rope&>(e).properties().material;
+  };
+  EXPECT_DOUBLE_EQ(material_of("tbeam").damping.alpha, 0.1);
+  EXPECT_DOUBLE_EQ(material_of("tbeam").damping.beta, 0.002);
+  const RayleighDamping c = material_of("cbeam").damping;
+  EXPECT_NEAR(c.ratio(2 * std::numbers::pi * 1), 0.02, 1e-14);
+  EXPECT_NEAR(c.ratio(2 * std::numbers::pi * 10), 0.03, 1e-14);
+  const RayleighDamping r = material_of("rope").damping;
+  EXPECT_EQ(r.alpha, 0.0);
+  EXPECT_NEAR(r.beta, 2 * 0.05 / (2 * std::numbers::pi * 2), 1e-15);
+}
+
 struct BadMember {
   const char* name;
   std::string replace, with;
@@ -186,6 +212,20 @@ INSTANTIATE_TEST_SUITE_P(
                   "bodies[2].rest_length_drive", "not both"},
         BadMember{"unknown_drive", "rest_length_drive: hoist", "rest_length_drive: winch", "bodies[2].rest_length_drive",
                   "no drive named"},
+        BadMember{"damping_both_forms", "up: [1, 0, 1]", "damping: {alpha: 1, ratio: 0.02}\n    up: [1, 0, 1]",
+                  "bodies[0].damping", "not both"},
+        BadMember{"damping_negative", "up: [1, 0, 1]", "damping: {beta: -0.001}\n    up: [1, 0, 1]",
+                  "bodies[0].damping.beta", ">= 0"},
+        BadMember{"damping_ratio_without_frequency", "up: [1, 0, 1]", "damping: {ratio: 0.02}\n    up: [1, 0, 1]",
+                  "bodies[0].damping", "missing required key 'frequency'"},
+        BadMember{"damping_ratios_need_negative_alpha", "up: [1, 0, 1]",
+                  "damping: {ratio: [0.01, 0.5], frequency: [2, 3]}\n    up: [1, 0, 1]", "bodies[0].damping",
+                  "negative alpha or beta"},
+        BadMember{"damping_one_ratio_two_frequencies", "up: [1, 0, 1]",
+                  "damping: {ratio: 0.01, frequency: [2, 3]}\n    up: [1, 0, 1]", "bodies[0].damping.frequency",
+                  "one frequency"},
+        BadMember{"rope_alpha", "rest_length_drive: hoist", "damping: {alpha: 0.5}\n    rest_length_drive: hoist",
+                  "bodies[2].damping", "stiffness-proportional damping only"},
         BadMember{"rope_rotation_constraint", "{name: right, type: spherical,", "{name: right, type: fixed,",
                   "constraints[2]", "orientation"}),
     [](const ::testing::TestParamInfo<BadMember>& info) { return std::string(info.param.name); });

@@ -16,11 +16,11 @@
 namespace latticedyn {
 namespace {
 
-Model cantilever(int n, bool clamped) {
+Model cantilever(int n, bool clamped, RayleighDamping damping = {}) {
   ModelBuilder b;
   const int body = b.add_body("beam", "timoshenko_beam");
   const double L = 15.0;
-  BeamProperties p{Material{7800, 2.06e11, 0.25}, round_tube_section(0.15, 0.0), L / n, 0.0};
+  BeamProperties p{Material{7800, 2.06e11, 0.25, damping}, round_tube_section(0.15, 0.0), L / n, 0.0};
   auto beam = std::make_shared<TimoshenkoBeam>(p);
   std::vector<int> t, r;
   for (int k = 0; k <= n; ++k) {
@@ -44,18 +44,27 @@ Model cantilever(int n, bool clamped) {
   return b.build();
 }
 
-TEST(ModalAnalysis, CantileverMatchesEulerBernoulli) {
-  const Model model = cantilever(10, true);
+// The lowest `count` modes about the model's initial state (the caller destroys them).
+std::vector<Mode> lowest_modes(const Model& model, int count) {
   SystemAssembler sa(model, PETSC_COMM_SELF);
   Vec U, V;
   sa.create_vector(&U);
   sa.create_vector(&V);
   sa.initial_state(U, V);
-  ModalAnalysis modal(sa, ModalSettings{6, 1e-10});
+  ModalAnalysis modal(sa, ModalSettings{count, 1e-10});
   std::vector<Mode> modes;
   std::string message;
-  ASSERT_EQ(modal.solve(U, 0.0, &modes, &message), 0);
-  ASSERT_EQ(modes.size(), 6u) << message;
+  EXPECT_EQ(modal.solve(U, 0.0, &modes, &message), 0);
+  EXPECT_EQ(static_cast<int>(modes.size()), count) << message;
+  VecDestroy(&U);
+  VecDestroy(&V);
+  return modes;
+}
+
+TEST(ModalAnalysis, CantileverMatchesEulerBernoulli) {
+  const Model model = cantilever(10, true);
+  std::vector<Mode> modes = lowest_modes(model, 6);
+  ASSERT_EQ(modes.size(), 6u);
   const double r = 0.15, EI = 2.06e11 * std::numbers::pi * std::pow(r, 4) / 4, rhoA = 7800 * std::numbers::pi * r * r;
   const double beta[3] = {1.875104069, 4.694091133, 7.854757438};
   // Ten elements with the linear translational mass: the error grows with the mode's waviness
@@ -70,31 +79,34 @@ TEST(ModalAnalysis, CantileverMatchesEulerBernoulli) {
     }
   }
   destroy_modes(modes);
-  VecDestroy(&U);
-  VecDestroy(&V);
+}
+
+// Rayleigh damping is proportional: every mode's ratio phi^T C phi / (2 omega phi^T M phi) is
+// alpha / (2 omega) + beta omega / 2 exactly (Chopra, Dynamics of Structures, 11.4), and an
+// undamped model reports zero.
+TEST(ModalAnalysis, ReportsTheRayleighDampingRatioOfEveryMode) {
+  for (const RayleighDamping d : {RayleighDamping{}, RayleighDamping{0.3, 2e-3}}) {
+    std::vector<Mode> modes = lowest_modes(cantilever(10, true, d), 6);
+    ASSERT_EQ(modes.size(), 6u);
+    for (const Mode& m : modes) {
+      const double expected = d.ratio(2 * std::numbers::pi * m.frequency);
+      EXPECT_NEAR(m.damping_ratio, expected, 1e-8 + 1e-8 * expected) << m.frequency << " Hz";
+    }
+    destroy_modes(modes);
+  }
 }
 
 // A free beam has six rigid-body modes at zero frequency, then its first free-free bending
 // mode, (beta L)^2 = 22.3733.
 TEST(ModalAnalysis, FreeBeamHasSixRigidModes) {
   const Model model = cantilever(10, false);
-  SystemAssembler sa(model, PETSC_COMM_SELF);
-  Vec U, V;
-  sa.create_vector(&U);
-  sa.create_vector(&V);
-  sa.initial_state(U, V);
-  ModalAnalysis modal(sa, ModalSettings{8, 1e-10});
-  std::vector<Mode> modes;
-  std::string message;
-  ASSERT_EQ(modal.solve(U, 0.0, &modes, &message), 0);
-  ASSERT_EQ(modes.size(), 8u) << message;
+  std::vector<Mode> modes = lowest_modes(model, 8);
+  ASSERT_EQ(modes.size(), 8u);
   for (int k = 0; k < 6; ++k) EXPECT_LT(std::abs(modes[k].omega2), 1e-6) << k;
   const double r = 0.15, EI = 2.06e11 * std::numbers::pi * std::pow(r, 4) / 4, rhoA = 7800 * std::numbers::pi * r * r;
   const double f = 22.3733 / (2 * std::numbers::pi) * std::sqrt(EI / (rhoA * std::pow(15.0, 4)));
   EXPECT_NEAR(modes[6].frequency, f, 0.01 * f);
   destroy_modes(modes);
-  VecDestroy(&U);
-  VecDestroy(&V);
 }
 
 }  // namespace
