@@ -30,7 +30,7 @@ enum ElementKind { kRigidBody, kStrutTie, kTimoshenkoBeam, kCubicSplineBeam, kRo
 // The type 2 section of thesis Table D-3: 15 m, order 6, 56 members.
 TrussSectionSpec type2_section() {
   TrussSectionSpec s = rectangular_truss_section(15.0, 6, 1.5, 1.4);
-  s.material = Material{7800, 2.06e11, 0.25, {}};
+  s.material = Material{7800, 2.06e11, 0.25, {}, 0.0};
   s.main_section = s.cross_section = round_tube_section(0.1, 0.08);
   s.sub_section = round_tube_section(0.05, 0.04);
   return s;

@@ -17,7 +17,7 @@ inline Model space_truss(int nx = 12, int ny = 13) {
   b.set_title("double-layer grid space truss");
   b.set_gravity(Vec3(0, 0, -9.81));
   StrutTieProperties p;
-  p.material = Material{7800.0, 2.06e11, 0.3, {}};
+  p.material = Material{7800.0, 2.06e11, 0.3, {}, 0.0};
   p.section = round_tube_section(0.04, 0.034);
   p.smoothing = 1e-4;
   const int body = b.add_body("truss", "strut_tie");

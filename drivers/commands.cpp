@@ -335,6 +335,9 @@ int command_solve(Simulation& sim, const CommandOptions& opt, MPI_Comm comm, boo
     text += buf;
     if (!r.linear_solver.empty()) text += "linear solver: " + r.linear_solver + "\n";
   }
+  if (writer)
+    if (const std::optional<MemberPeak> peak = writer->member_peak())
+      text += "most utilized member: " + describe_member_peak(sim.model, *peak) + "\n";
   text += peak_memory(comm);
   if (out.checkpoints() > 0 && writer) {
     char buf[1024];

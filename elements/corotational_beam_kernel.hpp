@@ -6,6 +6,7 @@
 #include "core/pack.hpp"
 #include "core/rotation.hpp"
 #include "core/types.hpp"
+#include "elements/section_stress.hpp"
 
 namespace latticedyn {
 
@@ -120,6 +121,30 @@ void local_moments(const CorotationalStiffnessT<K>& k, const Vec3T<S>& a, const 
   const S twist = b(0) - a(0);
   m1 = Vec3T<S>(-(twist * k.gj), a(1) * k.ky[0] + b(1) * k.ky[1], a(2) * k.kz[0] + b(2) * k.kz[1]);
   m2 = Vec3T<S>(twist * k.gj, b(1) * k.ky[0] + a(1) * k.ky[1], b(2) * k.kz[0] + a(2) * k.kz[1]);
+}
+
+/// Stress resultants at the two ends of the local linear beam, in the co-rotational frame: N = EA
+/// u/L0, the end moments m_i = dU/dtheta_i acting on the beam (section moments -m_1 at end 1,
+/// +m_2 at end 2), the shears from the beam's equilibrium under them, Qy = -(m1z + m2z)/L0,
+/// Qz = (m1y + m2y)/L0, constant along it.
+template <class S, class K>
+std::array<SectionForcesT<S>, 2> corotational_section_forces(const CorotationalStiffnessT<K>& k,
+                                                            const CorotationalDeformation<S>& def) {
+  Vec3T<S> m1, m2;
+  local_moments(k, def.th1, def.th2, m1, m2);
+  const S inv_l = S(1.0) / S(k.length);
+  std::array<SectionForcesT<S>, 2> out;
+  for (SectionForcesT<S>& f : out) {
+    f.N = def.u * k.ea;
+    f.Qy = -(m1(2) + m2(2)) * inv_l;
+    f.Qz = (m1(1) + m2(1)) * inv_l;
+    f.T = m2(0);
+  }
+  out[0].My = -m1(1);
+  out[0].Mz = -m1(2);
+  out[1].My = m2(1);
+  out[1].Mz = m2(2);
+  return out;
 }
 
 /// The internal force of corotational_force (below) with the intermediates its tangent reuses.

@@ -175,4 +175,24 @@ std::vector<Vec3> CubicSplineBeam::axis_points(std::span<const SlotState<double>
   return pts;
 }
 
+void CubicSplineBeam::output(std::span<const SlotState<double>> s, const ElementContext& ctx, ElementOutput& out) const {
+  Element::output(s, ctx, out);
+  static constexpr double kXi[3] = {0.0, 0.5, 1.0};
+  double e[12];
+  strains_at<double>(s[3].pos - s[0].pos, s[1].rot, s[2].pos(0), s[4].rot, s[5].pos(0), kXi, e);
+  SectionForces f[3];
+  for (int k = 0; k < 3; ++k) {
+    f[k].N = ea_ * e[4 * k];
+    f[k].T = stiffness_(0) * e[4 * k + 1];
+    f[k].My = stiffness_(1) * e[4 * k + 2];
+    f[k].Mz = stiffness_(2) * e[4 * k + 3];
+  }
+  for (SectionForces& g : f) {
+    g.Qy = -(f[2].Mz - f[0].Mz) / L_;
+    g.Qz = (f[2].My - f[0].My) / L_;
+  }
+  const BeamProperties& b = props_.beam;
+  out.members.assign(1, member_stress(b.section, b.material, f[0], f[2], {f[1]}));
+}
+
 }  // namespace latticedyn

@@ -59,7 +59,16 @@ class CubicSplineBeam final : public AutoDiffElement<CubicSplineBeam, 14> {
   /// The strains (eps, kappa_x, kappa_y, kappa_z) of every Gauss point, four per point, into strains.
   template <class S>
   void gauss_strains(const Vec3T<S>& d, const Mat3T<S>& R1, const S& s1, const Mat3T<S>& R2, const S& s2,
-                     std::span<S> strains) const;
+                     std::span<S> strains) const {
+    strains_at(d, R1, s1, R2, s2, std::span<const double>(xi_), strains);
+  }
+  /// The same strains at the points xi in [0, 1] along the element.
+  template <class S>
+  void strains_at(const Vec3T<S>& d, const Mat3T<S>& R1, const S& s1, const Mat3T<S>& R2, const S& s2,
+                  std::span<const double> xi, std::span<S> strains) const;
+  /// The default output plus section forces at both ends and the middle, from the strains
+  /// (N = EA eps, T = GJ kx, My = EIy ky, Mz = EIz kz; Qy = -dMz/ds, Qz = dMy/ds across the element).
+  void output(std::span<const SlotState<double>> state, const ElementContext& ctx, ElementOutput& out) const override;
 
  private:
   void add_damping(std::span<const SlotState<double>> s, const ElementContext& ctx, Eigen::Ref<VecX> r,
@@ -117,8 +126,8 @@ void CubicSplineBeam::compute_residual(std::span<const SlotState<S>> s, const El
 }
 
 template <class S>
-void CubicSplineBeam::gauss_strains(const Vec3T<S>& d, const Mat3T<S>& R1, const S& s1, const Mat3T<S>& R2, const S& s2,
-                                    std::span<S> strains) const {
+void CubicSplineBeam::strains_at(const Vec3T<S>& d, const Mat3T<S>& R1, const S& s1, const Mat3T<S>& R2, const S& s2,
+                                 std::span<const double> xis, std::span<S> strains) const {
   using std::atan2;
   using std::cos;
   using std::sin;
@@ -128,8 +137,8 @@ void CubicSplineBeam::gauss_strains(const Vec3T<S>& d, const Mat3T<S>& R1, const
   const Vec3T<S> t1 = R1.col(0) * (s1 * L), t2 = R2.col(0) * (s2 * L);
   const Mat3T<S> R12 = R1.transpose() * R2;
   const S phi12 = atan2(R12(2, 1), R12(2, 2));
-  for (std::size_t g = 0; g < xi_.size(); ++g) {
-    const double x = xi_[g], x2 = x * x;
+  for (std::size_t g = 0; g < xis.size(); ++g) {
+    const double x = xis[g], x2 = x * x;
     const Vec3T<S> rp = d * ((6 * x - 6 * x2) / L) + t1 * ((1 - 4 * x + 3 * x2) / L) + t2 * ((3 * x2 - 2 * x) / L);
     const Vec3T<S> rpp = d * ((6 - 12 * x) / (L * L)) + t1 * ((6 * x - 4) / (L * L)) + t2 * ((6 * x - 2) / (L * L));
     const S len = sqrt(rp.squaredNorm());

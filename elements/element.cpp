@@ -37,6 +37,7 @@ void Element::output(std::span<const SlotState<double>> state, const ElementCont
   out.axial_force = axial_force(state, ctx);
   out.polylines = axis_polylines(state, ctx);
   out.polyline_axial_forces = polyline_axial_forces(state, ctx);
+  out.members.clear();
 }
 
 }  // namespace latticedyn

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "core/types.hpp"
+#include "elements/section_stress.hpp"
 
 #include <Eigen/Core>
 
@@ -56,6 +57,9 @@ struct ElementOutput {
   std::optional<double> axial_force;           ///< bar-like elements (tension positive)
   std::vector<std::vector<Vec3>> polylines;    ///< axis_polylines
   std::vector<double> polyline_axial_forces;   ///< empty: every polyline drawn with axial_force
+  /// Section forces and stresses of each member the element stands for: one for a beam or a bar,
+  /// one per polyline of a super truss (in their order); empty for elements that are no member.
+  std::vector<MemberStress> members;
 };
 
 /// The most elements one batched evaluation takes (the lanes of core/pack.hpp's Pack4).

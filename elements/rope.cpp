@@ -217,4 +217,9 @@ std::vector<Vec3> Rope::axis_points(std::span<const SlotState<double>> s, const 
   return pts;
 }
 
+void Rope::output(std::span<const SlotState<double>> s, const ElementContext& ctx, ElementOutput& out) const {
+  Element::output(s, ctx, out);
+  out.members.assign(1, bar_stress(props_.section, props_.material, out.axial_force.value_or(0.0)));
+}
+
 }  // namespace latticedyn

@@ -52,6 +52,8 @@ class Rope final : public Element {
                 ElementTangents& out) const override;
   ElementEnergy energy(std::span<const SlotState<double>> state, const ElementContext& ctx) const override;
   /// Tension at mid-element, elastic plus viscous (tension only: never negative).
+  /// The default output plus the bar's axial stress and utilization.
+  void output(std::span<const SlotState<double>> state, const ElementContext& ctx, ElementOutput& out) const override;
   std::optional<double> axial_force(std::span<const SlotState<double>> state,
                                     const ElementContext& ctx) const override;
   std::vector<Vec3> axis_points(std::span<const SlotState<double>> state, const ElementContext& ctx) const override;

@@ -23,6 +23,7 @@ void Material::validate() const {
   require(std::isfinite(poisson_ratio) && poisson_ratio > -1.0 && poisson_ratio < 0.5,
           "poisson_ratio must lie in (-1, 0.5)");
   damping.validate();
+  require(std::isfinite(yield_stress) && yield_stress >= 0.0, "yield_stress must be a number >= 0 (Pa)");
 }
 
 void SectionProperties::validate() const {
@@ -66,6 +67,9 @@ SectionProperties frame_section(double h, double b, double t) {
   require(positive(t), "frame wall thickness must be positive");
   SectionProperties s;
   s.shape = SectionProperties::Shape::frame;
+  s.height = h;
+  s.width = b;
+  s.thickness = std::min(t, 0.5 * std::min(h, b));
   const bool solid = 2 * t >= std::min(h, b);
   if (solid) {
     s.area = b * h;

@@ -11,6 +11,7 @@ struct Material {
   double youngs_modulus = 0.0;  ///< E [Pa]
   double poisson_ratio = 0.0;   ///< nu [-]
   RayleighDamping damping;      ///< alpha M + beta K of every element made of it
+  double yield_stress = 0.0;    ///< f_y [Pa] that members' utilization refers to; 0: not given
 
   double shear_modulus() const { return youngs_modulus / (2.0 * (1.0 + poisson_ratio)); }
   /// Throws std::invalid_argument naming the first meaningless value.
@@ -29,6 +30,8 @@ struct SectionProperties {
   double inner_radius = 0.0;
   double custom_shear_coefficient = 0.0;  ///< custom sections: given kappa, or 0 for 5/6
   double mass_per_length = 0.0;  ///< custom sections: given mass per length [kg/m], or 0 for rho A
+  double height = 0.0, width = 0.0, thickness = 0.0;  ///< frames: extent along z, along y, wall
+  double fibre_y = 0.0, fibre_z = 0.0;  ///< custom sections: outermost fibres' distances from the z and y axes, 0: unknown
 
   /// The density the section's inertia uses: the material's, or mass_per_length / A when a
   /// custom section gives its mass (Table 5-1's "quality"); rotary inertia scales with it.

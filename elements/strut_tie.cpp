@@ -119,4 +119,9 @@ std::optional<double> StrutTie::axial_force(std::span<const SlotState<double>> s
   return axial_force_from<double>(s[1].pos - s[0].pos, s[1].vel - s[0].vel, s[1].acc - s[0].acc);
 }
 
+void StrutTie::output(std::span<const SlotState<double>> s, const ElementContext& ctx, ElementOutput& out) const {
+  Element::output(s, ctx, out);
+  out.members.assign(1, bar_stress(props_.section, props_.material, out.axial_force.value_or(0.0)));
+}
+
 }  // namespace latticedyn

@@ -34,6 +34,8 @@ class StrutTie final : public AutoDiffElement<StrutTie, 6> {
   std::string_view type_name() const override { return "strut_tie"; }
   ElementEnergy energy(std::span<const SlotState<double>> state,
                        const ElementContext& ctx) const override;
+  /// The default output plus the bar's axial stress and utilization.
+  void output(std::span<const SlotState<double>> state, const ElementContext& ctx, ElementOutput& out) const override;
   std::optional<double> axial_force(std::span<const SlotState<double>> state,
                                     const ElementContext& ctx) const override;
 

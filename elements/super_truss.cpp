@@ -23,6 +23,10 @@ const TrussSectionSpec& validated(const TrussSectionSpec& spec) {
   return spec;
 }
 
+SectionForces lane_of(const SectionForcesT<Pack4>& f, int l) {
+  return SectionForces{f.N[l], f.Qy[l], f.Qz[l], f.T[l], f.My[l], f.Mz[l]};
+}
+
 Row9 contract_row(const Row12& r) {  // the (d, delta_1, delta_2) part of a derivative in the DoFs
   Row9 out;
   out << r.segment<3>(6), r.segment<3>(3), r.segment<3>(9);
@@ -426,6 +430,7 @@ void SuperTrussElement::output(std::span<const SlotState<double>> s, const Eleme
   out.axial_force.reset();
   out.polylines.resize(nm);
   out.polyline_axial_forces.resize(nm);
+  out.members.resize(nm);
   Vec3T<Pack4> r1, d;
   Mat3T<Pack4> R1, R2;
   for (std::size_t k = 0; k < batches_.size(); ++k) {
@@ -433,12 +438,17 @@ void SuperTrussElement::output(std::span<const SlotState<double>> s, const Eleme
     gather(p, R, bt, r1, d, R1, R2);
     const CorotationalDeformation<Pack4> def = corotational_deformation<Pack4>(bt.stiffness, d, R1, R2);
     const Pack4 strain = corotational_strain_energy<Pack4>(bt.stiffness, def), axial = def.u * bt.stiffness.ea;
+    // The members' section forces recovered from the node poses (thesis 3.5: the super truss's
+    // coordinates carry every member's deformation).
+    const std::array<SectionForcesT<Pack4>, 2> ends = corotational_section_forces<Pack4>(bt.stiffness, def);
     Vec3T<Pack4> axis[kPoints];
     for (int i = 0; i < kPoints; ++i) axis[i] = corotational_axis_point(def, r1, d, i / (kPoints - 1.0));
     for (int l = 0; l < bt.count; ++l) {
       const std::size_t m = k * Pack4::kLanes + static_cast<std::size_t>(l);
       e.strain += strain[l];
       out.polyline_axial_forces[m] = axial[l];
+      const BeamProperties& beam = members_[m].beam->properties();
+      out.members[m] = member_stress(beam.section, beam.material, lane_of(ends[0], l), lane_of(ends[1], l));
       out.polylines[m].resize(kPoints);
       for (int i = 0; i < kPoints; ++i) out.polylines[m][i] = lane(axis[i], l);
     }

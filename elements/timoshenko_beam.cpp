@@ -216,10 +216,14 @@ std::optional<double> TimoshenkoBeam::axial_force(std::span<const SlotState<doub
 }
 
 void TimoshenkoBeam::deformed_state(const Vec3& r1, const Vec3& d, const Mat3& R1, const Mat3& R2, double* strain,
-                                    double* axial, std::vector<Vec3>* axis) const {
+                                    double* axial, std::vector<Vec3>* axis, MemberStress* stress) const {
   const CorotationalDeformation<double> def = corotational_deformation<double>(stiffness_, d, R1, R2);
   if (strain) *strain = corotational_strain_energy<double>(stiffness_, def);
   if (axial) *axial = stiffness_.ea * def.u;
+  if (stress) {
+    const auto ends = corotational_section_forces<double>(stiffness_, def);
+    *stress = member_stress(props_.section, props_.material, ends[0], ends[1]);
+  }
   if (!axis) return;
   axis->resize(kAxisPoints);
   for (int k = 0; k < kAxisPoints; ++k) (*axis)[k] = corotational_axis_point(def, r1, d, k / (kAxisPoints - 1.0));
@@ -237,8 +241,10 @@ void TimoshenkoBeam::output(std::span<const SlotState<double>> s, const ElementC
   for (int k = 0; k < 2; ++k) out.energy.kinetic += 0.5 * s[1 + 2 * k].vel.dot(rotary_.asDiagonal() * s[1 + 2 * k].vel);
   out.energy.gravity_potential = -mass_ * ctx.gravity.dot(0.5 * (s[0].pos + s[2].pos));
   out.polylines.resize(1);
+  out.members.resize(1);
   double axial;
-  deformed_state(s[0].pos, s[2].pos - s[0].pos, s[1].rot, s[3].rot, &out.energy.strain, &axial, &out.polylines[0]);
+  deformed_state(s[0].pos, s[2].pos - s[0].pos, s[1].rot, s[3].rot, &out.energy.strain, &axial, &out.polylines[0],
+                 &out.members[0]);
   out.axial_force = axial;
   out.polyline_axial_forces.clear();
 }

@@ -68,9 +68,10 @@ class TimoshenkoBeam final : public Element {
   std::vector<Vec3> axis_points(std::span<const SlotState<double>> state, const ElementContext& ctx) const override;
   void output(std::span<const SlotState<double>> state, const ElementContext& ctx, ElementOutput& out) const override;
   /// From one evaluation of the co-rotational frame at end 1 = r1, d = r2 - r1: the strain energy,
-  /// the axial force E A (l - L0)/L0 and the five axis points, each where asked for.
+  /// the axial force E A (l - L0)/L0, the five axis points and the member's section forces and
+  /// stresses, each where asked for.
   void deformed_state(const Vec3& r1, const Vec3& d, const Mat3& R1, const Mat3& R2, double* strain, double* axial,
-                      std::vector<Vec3>* axis) const;
+                      std::vector<Vec3>* axis, MemberStress* stress = nullptr) const;
 
   const BeamProperties& properties() const { return props_; }
 

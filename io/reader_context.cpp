@@ -32,7 +32,7 @@ RayleighDamping read_damping(const InputNode& n) {
 }
 
 Material read_material(const InputNode& n) {
-  n.allow_only({"density", "youngs_modulus", "poisson_ratio", "damping"});
+  n.allow_only({"density", "youngs_modulus", "poisson_ratio", "damping", "yield_stress"});
   Material m;
   m.density = n["density"].as_positive();
   m.youngs_modulus = n["youngs_modulus"].as_positive();
@@ -40,6 +40,7 @@ Material read_material(const InputNode& n) {
   m.poisson_ratio = nu.as_double();
   if (!(m.poisson_ratio > -1.0 && m.poisson_ratio < 0.5)) nu.fail("expected a Poisson ratio in (-1, 0.5)");
   if (auto d = n.get("damping")) m.damping = read_damping(*d);
+  m.yield_stress = n.get_positive("yield_stress", 0.0);
   return m;
 }
 
@@ -56,10 +57,13 @@ SectionProperties read_section(const InputNode& n) {
     n.allow_only({"type", "height", "width", "thickness"});
     return frame_section(n["height"].as_positive(), n["width"].as_positive(), n["thickness"].as_positive());
   }
-  n.allow_only({"type", "area", "Iy", "Iz", "torsion_constant", "shear_coefficient", "mass_per_length"});
+  n.allow_only({"type", "area", "Iy", "Iz", "torsion_constant", "shear_coefficient", "mass_per_length", "fibre_y", "fibre_z"});
   SectionProperties s = custom_section(n["area"].as_positive(), n["Iy"].as_positive(), n["Iz"].as_positive(),
                                        n["torsion_constant"].as_positive(), n.get_positive("shear_coefficient", 5.0 / 6.0));
   s.mass_per_length = n.get_positive("mass_per_length", 0.0);
+  if (n.has("fibre_y") != n.has("fibre_z")) n.fail("give both fibre_y and fibre_z (the outermost fibres' distances), or neither");
+  s.fibre_y = n.get_positive("fibre_y", 0.0);
+  s.fibre_z = n.get_positive("fibre_z", 0.0);
   return s;
 }
 

@@ -12,6 +12,7 @@
 #include <chrono>
 #include <cerrno>
 #include <cstdio>
+#include <cmath>
 #include <cstring>
 #include <functional>
 #include <iostream>
@@ -88,6 +89,7 @@ struct ResultWriter::Impl {
   std::vector<double> joint_axes;  // per joint its frame's columns, 9 per joint
   std::vector<ConstraintReaction> reactions;  // per constraint
   std::vector<double> row;      // one dataset's row of the current step
+  std::optional<MemberPeak> peak;  // the most utilized member over the steps appended
 
   Impl(const Model& m, ResultWriterOptions o);
   ~Impl();
@@ -114,6 +116,24 @@ struct ResultWriter::Impl {
     return names;
   }
   void continue_probes();
+  /// The member a drawn line belongs to, or none (rigid bodies' lines, elements without members).
+  const MemberStress* line_member(std::size_t line) const {
+    const int e = viz->line_element()[line];
+    if (e < 0) return nullptr;
+    const auto& members = element_out[static_cast<std::size_t>(e)].members;
+    const auto m = static_cast<std::size_t>(viz->line_polyline()[line]);
+    return m < members.size() ? &members[m] : nullptr;
+  }
+  /// Fills a per-line dataset with one number of each line's member (NaN without one).
+  std::function<void(const ModelState&, double*)> per_line(double (*of)(const MemberStress&)) const {
+    return [this, of](const ModelState&, double* out) {
+      for (std::size_t l = 0; l < viz->line_element().size(); ++l) {
+        const MemberStress* m = line_member(l);
+        out[l] = m ? of(*m) : std::numeric_limits<double>::quiet_NaN();
+      }
+    };
+  }
+  void track_peak(double time);
 };
 
 std::optional<std::string> base_name_problem(const std::string& name) {
@@ -438,6 +458,7 @@ void ResultWriter::Impl::create_viz() {
     io::write_ints(g.get(), "lines", viz->lines(), ctx, 2);
     io::write_ints(g.get(), "body", viz->line_body(), ctx);
     io::write_ints(g.get(), "element", viz->line_element(), ctx);
+    io::write_ints(g.get(), "member", viz->line_polyline(), ctx);  // the member within the element
     // Vertex lists (0, 1, ..., n-1) of the joints' and the constraints' point grids.
     std::vector<int> ids(static_cast<std::size_t>(std::max(nj, nc)));
     for (std::size_t i = 0; i < ids.size(); ++i) ids[i] = static_cast<int>(i);
@@ -461,6 +482,29 @@ void ResultWriter::Impl::create_viz() {
         out[l] = axial[e];
     }
   });
+  // The members' section forces and stresses, per line like the axial force.
+  add(g.get(), "section_forces", {nl, 12}, "N (N, Qy, Qz), N*m (T, My, Mz); end 1, then end 2; element frame",
+      [this](const ModelState&, double* out) {
+        for (std::size_t l = 0; l < viz->line_element().size(); ++l, out += 12) {
+          const MemberStress* m = line_member(l);
+          for (int k = 0; k < 2; ++k) {
+            const SectionForces f = m ? m->end[static_cast<std::size_t>(k)] : SectionForces{};
+            const double v[6] = {f.N, f.Qy, f.Qz, f.T, f.My, f.Mz};
+            for (int i = 0; i < 6; ++i) out[6 * k + i] = m ? v[i] : std::numeric_limits<double>::quiet_NaN();
+          }
+        }
+      });
+  add(g.get(), "von_mises", {nl}, "Pa", per_line([](const MemberStress& m) { return m.von_mises; }));
+  add(g.get(), "utilization", {nl}, "1 (von Mises / yield stress)",
+      per_line([](const MemberStress& m) { return m.utilization; }));
+  add(g.get(), "bending_moment", {nl}, "N*m", per_line([](const MemberStress& m) {
+        return std::max(std::hypot(m.end[0].My, m.end[0].Mz), std::hypot(m.end[1].My, m.end[1].Mz));
+      }));
+  add(g.get(), "shear_force", {nl}, "N", per_line([](const MemberStress& m) {
+        return std::max(std::hypot(m.end[0].Qy, m.end[0].Qz), std::hypot(m.end[1].Qy, m.end[1].Qz));
+      }));
+  add(g.get(), "torque", {nl}, "N*m",
+      per_line([](const MemberStress& m) { return std::max(std::abs(m.end[0].T), std::abs(m.end[1].T)); }));
   // The joints' frames for glyphs: drawing data, in single precision like the points.
   for (int axis = 0; axis < 3; ++axis)
     add(g.get(), std::string("joint_axis_") + "xyz"[axis], {static_cast<hsize_t>(nj), 3}, "1",
@@ -509,6 +553,25 @@ void ResultWriter::Impl::compute_step(const ModelState& state) {
   }
   reactions.resize(model.constraints.size());
   for (std::size_t c = 0; c < reactions.size(); ++c) reactions[c] = state.constraint_reaction(static_cast<int>(c));
+  track_peak(state.time());
+}
+
+void ResultWriter::Impl::track_peak(double time) {
+  // Members with a utilization (their material gives a yield stress) outrank those without; then
+  // the larger utilization, or von Mises stress, wins.
+  auto outranks = [](const MemberStress& a, const MemberPeak& b) {
+    const bool ua = std::isfinite(a.utilization), ub = std::isfinite(b.utilization);
+    if (ua != ub) return ua;
+    return ua ? a.utilization > b.utilization : a.von_mises > b.von_mises;
+  };
+  for (std::size_t e = 0; e < element_out.size(); ++e) {
+    const auto& members = element_out[e].members;
+    for (std::size_t m = 0; m < members.size(); ++m) {
+      const MemberStress& ms = members[m];
+      if (!std::isfinite(ms.von_mises) || (peak && !outranks(ms, *peak))) continue;
+      peak = MemberPeak{static_cast<int>(e), static_cast<int>(m), time, ms.von_mises, ms.utilization, ms.end[0], ms.end[1]};
+    }
+  }
 }
 
 void ResultWriter::Impl::write_probe_header() {
@@ -691,5 +754,26 @@ fs::path ResultWriter::h5_path() const { return impl_->h5; }
 fs::path ResultWriter::xdmf_path() const { return impl_->xdmf; }
 fs::path ResultWriter::csv_path() const { return impl_->csv; }
 int ResultWriter::steps_written() const { return impl_->steps; }
+
+std::optional<MemberPeak> ResultWriter::member_peak() const { return impl_->peak; }
+
+std::string describe_member_peak(const Model& model, const MemberPeak& p) {
+  const ElementEntry& entry = model.elements.at(static_cast<std::size_t>(p.element));
+  std::string where = "element " + std::to_string(p.element);
+  if (entry.body >= 0) {
+    const Body& b = model.bodies[static_cast<std::size_t>(entry.body)];
+    const auto it = std::find(b.elements.begin(), b.elements.end(), p.element);
+    where = "body '" + b.name + "' element " + std::to_string(it - b.elements.begin() + 1) + " of " +
+            std::to_string(b.elements.size());
+  }
+  if (entry.element->type_name() == "super_truss") where += ", member " + std::to_string(p.member + 1);
+  char buf[256];
+  if (std::isfinite(p.utilization))
+    std::snprintf(buf, sizeof buf, ": utilization %.3g (von Mises %.4g MPa) at t = %.6g s", p.utilization,
+                  p.von_mises * 1e-6, p.time);
+  else
+    std::snprintf(buf, sizeof buf, ": von Mises %.4g MPa at t = %.6g s (no yield_stress given)", p.von_mises * 1e-6, p.time);
+  return where + buf;
+}
 
 }  // namespace latticedyn

@@ -5,6 +5,7 @@
 #include "assembly/model_state.hpp"
 
 #include <filesystem>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -45,6 +46,21 @@ struct ResultWriterOptions {
   bool body_blocks = false;
 };
 
+/// The most utilized member over the steps written (by utilization where the materials give a
+/// yield stress, else by von Mises stress): which, when and how much.
+struct MemberPeak {
+  int element = -1;         ///< model element index
+  int member = 0;           ///< the member within it (a super truss's members; 0 otherwise)
+  double time = 0.0;
+  double von_mises = 0.0;   ///< Pa
+  double utilization = std::numeric_limits<double>::quiet_NaN();  ///< von Mises / yield stress
+  SectionForces end1, end2;  ///< its resultants then
+};
+
+/// "body 'boom' element 12 (member 7 of its super truss): utilization 0.83 (von Mises 295 MPa) at
+/// t = 12.3 s" for a run's summary.
+std::string describe_member_peak(const Model& model, const MemberPeak& peak);
+
 /// Writes one output time per append(). The layout, in full, is in docs/output-format.md; in short
 /// (T = steps written, every real in IEEE double, SI units):
 ///
@@ -67,8 +83,12 @@ struct ResultWriterOptions {
 ///   /energy_total            T
 ///   /drives/value            T x nDrives      each drive's value (rest lengths, angles)
 ///   /viz/points T x nPoints x 3;  /viz/axial_force T x nLines
+///   /viz/section_forces T x nLines x 12 (N, Qy, Qz, T, My, Mz at end 1, then end 2 of the line's
+///   member, element frame), /viz/von_mises, /viz/utilization, /viz/bending_moment,
+///   /viz/shear_force, /viz/torque T x nLines (the member's largest; NaN for no member)
 ///   /viz/joint_axis_x, _y, _z T x nJoints x 3 (the joints' frames, for glyphs)
-///   /viz/lines nLines x 2, /viz/body nLines, /viz/element nLines, /viz/joint_vertices,
+///   /viz/lines nLines x 2, /viz/body nLines, /viz/element nLines, /viz/member nLines (the
+///   member or polyline within the element), /viz/joint_vertices,
 ///   /viz/constraint_vertices, /viz/body_lines (each body's lines numbered from its first point,
 ///   for the XDMF's body blocks) (static)
 ///
@@ -115,6 +135,9 @@ class ResultWriter {
   std::filesystem::path csv_path() const;
   /// Number of completed append() calls.
   int steps_written() const;
+  /// The most utilized member over the steps appended so far; none before the first append or
+  /// in a model without members.
+  std::optional<MemberPeak> member_peak() const;
 
  private:
   struct Impl;

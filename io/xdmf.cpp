@@ -182,6 +182,11 @@ void XdmfDocument::format_step(const std::string& step, const std::string& time_
       put("            </DataItem>\n");
     });
     attribute("axial_force [N]", false, true, [&] { slab("/viz/axial_force", cells, false, step, "8", first_line, line_rows); });
+    // The members' stresses and largest resultants: colour by utilization to see the worst.
+    for (const auto& [name, dataset] : {std::pair{"utilization", "/viz/utilization"}, std::pair{"von_mises [Pa]", "/viz/von_mises"},
+                                        std::pair{"bending_moment [N m]", "/viz/bending_moment"},
+                                        std::pair{"shear_force [N]", "/viz/shear_force"}, std::pair{"torque [N m]", "/viz/torque"}})
+      attribute(name, false, true, [&] { slab(dataset, cells, false, step, "8", first_line, line_rows); });
     attribute("body", false, true, [&] { rows("/viz/body", false); });
     attribute("element", false, true, [&] { rows("/viz/element", false); });
     put("        </Grid>\n");

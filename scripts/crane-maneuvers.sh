@@ -35,6 +35,8 @@ for m in "${maneuvers[@]}"; do
       sed "s/^/${m},$([[ -n $variant ]] && echo full || echo reduced),${threads},/" >> "$timing"
     /usr/bin/python3 scripts/crane_report.py "results/crane_${m}${variant}/${m}${variant}.h5" --out "$out"
   done
+  # Each body's most utilized member, reduced beside full (<m>_members.md).
+  /usr/bin/python3 scripts/crane_report.py "results/crane_${m}/${m}.h5" --out "$out" --vs "results/crane_${m}_full/${m}_full.h5"
   render "results/crane_${m}/${m}.xdmf" --output "$out/${m}.png" --times 0 20 40 --view iso --size 900 700
   render "results/crane_${m}_full/${m}_full.xdmf" --output "$out/${m}_full.png" --times 0 20 40 --view iso --size 900 700
 done

@@ -15,6 +15,10 @@ Writes into DIR, named after the results file:
     <name>_summary.md   the state at the start (the static equilibrium) and at the end: rope rest
                         lengths and forces, boom angle, load position; the run's extremes
     <name>_summary.csv  the same numbers, one quantity per row
+    <name>_members.md   each body's most utilized member over the run (von Mises over the
+                        material's yield stress): its utilization, stress, when and which element;
+                        with --vs OTHER.h5 (the same maneuver on the other crane model) the two side
+                        by side, ordered by the larger utilization
 Needs h5py and matplotlib (Debian's python3-h5py, python3-matplotlib).
 """
 import argparse
@@ -49,10 +53,17 @@ class Run:
         self.joint_vel = f["joints/velocity"][()]
         self.bodies = strings(f["model/body_names"])
         self.element_body = f["model/element_body"][()]
+        self.body_types = strings(f["model/body_types"]) if "model/body_types" in f else [""] * len(self.bodies)
         self.axial = f["elements/axial_force"][()]
         self.violation = f["constraints/violation"][()] if "constraints/violation" in f else None
         self.drive_names = strings(f["model/drive_names"]) if "model/drive_names" in f else []
         self.drives = f["drives/value"][()] if "drives/value" in f else np.zeros((len(self.time), 0))
+        v = f.get("viz")
+        self.utilization = v["utilization"][()] if v is not None and "utilization" in v else None
+        self.von_mises = v["von_mises"][()] if v is not None and "von_mises" in v else None
+        self.line_body = v["body"][()] if v is not None and "body" in v else None
+        self.line_element = v["element"][()] if v is not None and "element" in v else None
+        self.line_member = v["member"][()] if v is not None and "member" in v else None
 
     def joint(self, name):
         if name not in self.joint_names:
@@ -203,11 +214,69 @@ def summary(run, out, title):
     print(f"wrote {out / (run.name + '_summary.md')}")
 
 
+def member_peaks(run):
+    """Each body's most utilized member over the run: {body: (utilization, von Mises [Pa], time,
+    "member k" of a lattice or super truss, or "element k" of another body)}; bodies whose members
+    have no utilization (no yield stress) are left out."""
+    if run.utilization is None:
+        return {}
+    peaks = {}
+    first_element = {}
+    for e, b in enumerate(run.element_body):
+        first_element.setdefault(int(b), e)
+    for b in sorted(set(int(x) for x in run.line_body if x >= 0)):
+        cols = np.flatnonzero(run.line_body == b)
+        u = run.utilization[:, cols]
+        if not np.isfinite(u).any():
+            continue
+        k, c = np.unravel_index(np.nanargmax(u), u.shape)
+        line = cols[c]
+        element = int(run.line_element[line]) - first_element[b] + 1
+        # A lattice body has one element per member, in the truss section's member order, and a
+        # super truss's members come in that order too: "member k" names the same member in both.
+        if run.body_types[b] == "super_truss":
+            where = f"member {int(run.line_member[line]) + 1}"
+        elif run.body_types[b] == "lattice":
+            where = f"member {element}"
+        else:
+            where = f"element {element}"
+        peaks[run.bodies[b]] = (float(u[k, c]), float(run.von_mises[k, line]), float(run.time[k]), where)
+    return peaks
+
+
+def members(run, out, other=None):
+    """<name>_members.md: each body's most utilized member, beside the other run's."""
+    mine = member_peaks(run)
+    if not mine:
+        return
+    theirs = member_peaks(other) if other is not None else {}
+    order = sorted(mine, key=lambda b: -max(mine[b][0], theirs.get(b, (0,))[0]))
+    head = f"| body | {run.name}: utilization | von Mises (MPa) | t (s) | where |"
+    rule = "|---|---|---|---|---|"
+    if other is not None:
+        head += f" {other.name}: utilization | von Mises (MPa) | t (s) | where |"
+        rule += "---|---|---|---|"
+    lines = [head, rule]
+    for b in order:
+        u, vm, t, e = mine[b]
+        row = f"| {b} | {u:.3f} | {vm / 1e6:.4g} | {t:.4g} | {e} |"
+        if other is not None:
+            if b in theirs:
+                u2, vm2, t2, e2 = theirs[b]
+                row += f" {u2:.3f} | {vm2 / 1e6:.4g} | {t2:.4g} | {e2} |"
+            else:
+                row += " | | | |"
+        lines.append(row)
+    (out / f"{run.name}_members.md").write_text("\n".join(lines) + "\n")
+    print(f"wrote {out / (run.name + '_members.md')}")
+
+
 def main():
     a = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     a.add_argument("h5")
     a.add_argument("--out", required=True)
     a.add_argument("--title", default=None)
+    a.add_argument("--vs", default=None, help="the same maneuver on the other crane model, for the members table")
     args = a.parse_args()
     if not pathlib.Path(args.h5).is_file():
         sys.exit(f"error: no results file {args.h5}")
@@ -221,6 +290,7 @@ def main():
     plot_path(run, out, title)
     plot_ropes(run, out, title)
     summary(run, out, title)
+    members(run, out, Run(args.vs) if args.vs else None)
 
 
 if __name__ == "__main__":

@@ -15,9 +15,10 @@ What is drawn: the "members" block of each output time (the line cells: elements
 bodies' draw lines) as tubes and the "joints" block (one vertex per model joint) as spheres,
 so every body shows, also a rigid body that draws no line (one joint, at its origin).
 An XDMF written before the blocks existed (one grid per time, no blocks) draws its lines only.
-Lines are coloured by body (a legend names the bodies, from the .h5, up to 24 of them), or by
-axial force with --color axial_force (strut ties, beams,
-super truss members, ropes); joints take their body's colour, or grey with axial force.
+Lines are coloured by body (a legend names the bodies, from the .h5, up to 24 of them), by
+axial force with --color axial_force (strut ties, beams, super truss members, ropes), or by the
+members' utilization (von Mises over the yield stress) or von Mises stress with --color
+utilization / von_mises (grey where a member has none); joints take their body's colour, or grey.
 Every picture and frame carries the model's title (--title replaces it), the simulated time and
 the x, y, z axes, and one colour range holds for all times drawn: the largest |axial force| over
 them (or --range), the full range of body indices for --color body.
@@ -124,13 +125,14 @@ def survey(reader, blocks, times, a):
         b = parts.bounds()
         lo = [min(lo[i], b[2 * i]) for i in range(3)]
         hi = [max(hi[i], b[2 * i + 1]) for i in range(3)]
-        if a.color == "axial_force":
+        if a.color != "body":
             r = parts.members.CellData[array].GetRange()
             force = max(force, abs(r[0]), abs(r[1]))
     bounds = [v for i in range(3) for v in (lo[i], hi[i])]
-    if a.color == "axial_force":
+    if a.color != "body":
         limit = a.range if a.range else (force if force > 0 else 1.0)
-        return bounds, (-limit, limit)
+        # Stresses and utilizations are magnitudes: 0..max; forces -max..max.
+        return bounds, (-limit, limit) if a.color == "axial_force" else (0.0, limit)
     # Body indices do not change over time: the members' and the joints' together.
     ranges = [parts.members.CellData[array].GetRange()]
     if parts.joints is not None and "body" in parts.joints.PointData.keys():
@@ -181,10 +183,12 @@ def colour_map(view, a, span):
             bar.ComponentTitle = ""
             bar.TitleColor = bar.LabelColor = DARK
         return lut
-    lut.ApplyPreset("Cool to Warm", True)
+    lut.ApplyPreset("Cool to Warm" if a.color == "axial_force" else "Inferno (matplotlib)", True)
     lut.RescaleTransferFunction(span[0], span[1])
+    lut.NanColor = [0.6, 0.6, 0.6]  # members without the quantity (ropes without a yield stress)
     bar = GetScalarBar(lut, view)
-    bar.Title = "axial force [N]"
+    bar.Title = {"axial_force": "axial force [N]", "utilization": "utilization",
+                 "von_mises": "von Mises stress [Pa]"}[a.color]
     bar.ComponentTitle = ""
     bar.TitleColor = bar.LabelColor = DARK
     return lut
@@ -203,7 +207,7 @@ def draw(parts, view, a, radius):
     shown = [Show(tubes, view)]
     array = parts.array(a.color)
     ColorBy(shown[0], ("CELLS", array))
-    if a.color == "axial_force" or lut_has_legend(a):
+    if a.color != "body" or lut_has_legend(a):
         shown[0].SetScalarBarVisibility(view, True)
     if parts.joints is not None:
         spheres = Glyph(Input=parts.joints, GlyphType="Sphere", GlyphMode="All Points",
@@ -341,10 +345,10 @@ def main():
     p.add_argument("--fps", type=int, default=20, help="movie frames per second")
     p.add_argument("--view", default="xz", choices=sorted(DIRECTIONS),
                    help="viewing direction (xz: x right, z up)")
-    p.add_argument("--color", default="body", choices=["body", "axial_force"])
+    p.add_argument("--color", default="body", choices=["body", "axial_force", "utilization", "von_mises"])
     # one positive number: pvpython takes a negative argument for one of its own options
     p.add_argument("--range", type=float, default=None, metavar="MAX",
-                   help="colour range -MAX..MAX for --color axial_force (default: the largest |force| "
+                   help="colour range -MAX..MAX for --color axial_force, 0..MAX for utilization and von_mises (default: the largest value "
                         "over the times drawn; a fixed one compares two runs)")
     p.add_argument("--title", default=None, help="title on the pictures (default: the model's title)")
     p.add_argument("--size", type=int, nargs=2, default=[1200, 800])

@@ -47,6 +47,18 @@ int constraint_of(const Model& m, const InputNode& n) {
   n.fail("no constraint named '" + n.as_string() + "' with multipliers in the model");
 }
 
+// The members of a body at the run's final state (every member of each of its elements, in order).
+std::vector<MemberStress> final_members(const Trajectory& tr, int body) {
+  const Model& m = tr.simulation->model;
+  std::vector<MemberStress> out;
+  ElementOutput o;
+  for (int e : m.bodies[static_cast<std::size_t>(body)].elements) {
+    m.elements[static_cast<std::size_t>(e)].element->output(tr.final_state->element_slots(e), tr.final_state->context(), o);
+    out.insert(out.end(), o.members.begin(), o.members.end());
+  }
+  return out;
+}
+
 // Compares against {expected, abs_tol | rel_tol}.
 Result compare(const InputNode& c, const std::string& what, double value) {
   const double expected = c["expected"].as_double();
@@ -145,7 +157,8 @@ Result evaluate(const InputNode& c, const Trajectory& tr, const std::filesystem:
   const std::string what = c["what"].as_choice({"axial_force", "displacement", "position", "multiplier", "period",
                                                  "energy_drift", "max_violation", "variation", "compare_run",
                                                  "mpi_consistency", "frequency", "buckling_factor", "limit_load",
-                                                 "min_axial_force", "damping_ratio"});
+                                                 "min_axial_force", "damping_ratio", "section_force",
+                                                 "member_stress"});
   int rank = 0, size = 1;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &size);
@@ -222,6 +235,35 @@ Result evaluate(const InputNode& c, const Trajectory& tr, const std::filesystem:
   if (what == "limit_load") {
     c.allow_only({"what", "expected", "abs_tol", "rel_tol"});
     return compare(c, "limit load factor (first maximum of the path)", limit_load(tr.simulation->source));
+  }
+  if (what == "section_force" || what == "member_stress") {
+    // section_force: one resultant of one member at one end; member_stress: the largest von Mises
+    // stress or utilization of a body's members (final state).
+    const bool force = what == "section_force";
+    if (force)
+      c.allow_only({"what", "body", "member", "end", "component", "expected", "abs_tol", "rel_tol"});
+    else
+      c.allow_only({"what", "body", "quantity", "expected", "abs_tol", "rel_tol"});
+    const int b = m.find_body(c["body"].as_string());
+    if (b < 0) c["body"].fail("no body named '" + c["body"].as_string() + "' in the model");
+    const std::vector<MemberStress> members = final_members(tr, b);
+    if (members.empty()) c["body"].fail("body '" + c["body"].as_string() + "' has no members with section forces");
+    if (!force) {
+      const bool util = c["quantity"].as_choice({"von_mises", "utilization"}) == "utilization";
+      double largest = -INFINITY;
+      for (const MemberStress& ms : members) largest = std::max(largest, util ? ms.utilization : ms.von_mises);
+      return compare(c, std::string("largest ") + (util ? "utilization" : "von Mises stress") + " of " +
+                            c["body"].as_string(), largest);
+    }
+    const int k = c["member"].as_int();
+    if (k < 1 || k > static_cast<int>(members.size()))
+      c["member"].fail("expected a member from 1 to " + std::to_string(members.size()));
+    const int end = c["end"].as_int();
+    if (end != 1 && end != 2) c["end"].fail("expected end 1 or 2");
+    const std::string comp = c["component"].as_choice({"N", "Qy", "Qz", "T", "My", "Mz"});
+    const SectionForces& f = members[static_cast<std::size_t>(k - 1)].end[static_cast<std::size_t>(end - 1)];
+    const double v = comp == "N" ? f.N : comp == "Qy" ? f.Qy : comp == "Qz" ? f.Qz : comp == "T" ? f.T : comp == "My" ? f.My : f.Mz;
+    return compare(c, comp + " of " + c["body"].as_string() + " member " + std::to_string(k) + " at end " + std::to_string(end), v);
   }
   if (what == "min_axial_force") {
     c.allow_only({"what", "body", "min"});

@@ -65,6 +65,7 @@ Trajectory Study::run(const std::string& tag, const std::map<std::string, std::s
                       SimulationOutcome* outcome) const {
   const std::string path = instantiate(tag, substitutions);
   Trajectory tr;
+  tr.record_member_peaks = true;
   // Every run also leaves its HDF5 / XDMF (for ParaView) under out_dir/results/<tag>/.
   const PetscErrorCode ierr = run_and_record(path, PETSC_COMM_SELF, &tr, outcome, (out_dir_ / "results" / tag).string());
   if (ierr) throw std::runtime_error("PETSc error " + std::to_string(ierr) + " in " + path);

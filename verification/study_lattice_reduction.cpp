@@ -18,6 +18,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <map>
 #include <numbers>
 #include <sstream>
 
@@ -230,6 +231,19 @@ std::vector<double> body_member_forces(const Trajectory& tr, const std::string& 
   return out;
 }
 
+// Each member's largest von Mises stress over a run (the recorder's peaks), for the body's
+// elements in order: the full lattice's member by member, the super truss's as recovered from its
+// coordinates.
+std::vector<double> body_member_peaks(const Trajectory& tr, const std::string& body_name) {
+  const Model& m = tr.simulation->model;
+  std::vector<double> out;
+  for (int e : m.bodies[m.find_body(body_name)].elements) {
+    const auto& p = tr.member_peaks.at(static_cast<std::size_t>(e));
+    out.insert(out.end(), p.begin(), p.end());
+  }
+  return out;
+}
+
 // Twice the kinetic energy of unit rigid motions of the whole model (translations along x, y, z;
 // rotations about axes through the centre of the blocks' bounding box), from the elements'
 // energies with the blocks' velocities set to the rigid field.
@@ -379,6 +393,9 @@ std::vector<Verdict> run_lattice_reduction_study(const Study& s) {
     std::printf("mode %zu full %.5f Hz, reduced mode %zu %.5f Hz (ratio %.4f), MAC %.3f\n", i + 1, ff, best + 1, fr, fr / ff, best_mac);
   }
 
+  // Each member's largest von Mises stress per run, full [0] and reduced [1] (sections 4, 5, 6).
+  std::map<std::string, std::array<std::vector<double>, 2>> stress_peaks;
+
   // 4. Dynamics: self-weight release (8.2.1), end torque and angle drive about a hinge (8.2.2).
   CsvTable series(dir / "dynamics_series.csv", {"test", "model", "time", "tip_deflection"});
   md << "\n### Dynamic tip response\n\n| test | quantity | full | reduced | reduced / full |\n|---|---|---|---|---|\n";
@@ -412,6 +429,7 @@ std::vector<Verdict> run_lattice_reduction_study(const Study& s) {
       const int i = v == Variant::full ? 0 : 1;
       SimulationOutcome outcome;
       const Trajectory tr = s.run(std::string("dynamic_") + test.name + "_" + name_of(v), substitutions(st, test.sc, v), &outcome);
+      stress_peaks[test.name][i] = body_member_peaks(tr, st.bodies.front());
       if (!outcome.ok()) std::printf("dynamic %s %s FAILED: %s\n", test.name, name_of(v), outcome.dynamics.message.c_str());
       const Model& m = tr.simulation->model;
       const int jt = m.find_joint(tip), jr = m.find_joint(st.root);
@@ -464,6 +482,7 @@ std::vector<Verdict> run_lattice_reduction_study(const Study& s) {
     SimulationOutcome outcome;
     Trajectory tr = s.run(std::string("members_") + name_of(v), substitutions(st, member_sc, v), &outcome);
     forces[v == Variant::full ? 0 : 1] = body_member_forces(tr, st.bodies.front());
+    stress_peaks["static"][v == Variant::full ? 0 : 1] = body_member_peaks(tr, st.bodies.front());
     if (v == Variant::reduced) reduced_tr = std::move(tr);
   }
   {
@@ -506,7 +525,65 @@ std::vector<Verdict> run_lattice_reduction_study(const Study& s) {
   value["member.root_diagonal"] = worst_diag;
   std::printf("members: worst root chord ratio %.4f, worst loaded root diagonal ratio %.4f\n", worst_chord, worst_diag);
 
-  // 6. Cost.
+  // 6. Member stresses: every member's largest von Mises stress in the full model against the one
+  // recovered from the super truss's coordinates, per run. Ratios of the most stressed members
+  // (within half the body's largest stress) by kind, and the most stressed member of each model.
+  md << "\n### Member stresses, full against recovered from the super truss\n\n"
+        "Each member's largest von Mises stress over the run (statics: at the equilibrium of the member forces above); "
+        "ratios over the members stressed to at least half the full model's largest.\n\n"
+        "| run | largest full (MPa), member | largest reduced (MPa), member | largest: reduced / full | chords: median, worst | "
+        "lacing: median, worst |\n|---|---|---|---|---|---|\n";
+  CsvTable stress_csv(dir / "member_stresses.csv", {"run", "member", "kind", "node_a", "node_b", "full_pa", "reduced_pa"});
+  for (const auto& [run, peaks] : stress_peaks) {
+    const std::vector<double>& full = peaks[0];
+    const std::vector<double>& red = peaks[1];
+    if (full.size() != geometry->members.size() || red.size() != geometry->members.size()) {
+      std::printf("stresses %s: %zu full and %zu reduced members for %zu in the geometry; skipped\n", run.c_str(), full.size(),
+                  red.size(), geometry->members.size());
+      continue;
+    }
+    const auto top_full = std::max_element(full.begin(), full.end()) - full.begin();
+    const auto top_red = std::max_element(red.begin(), red.end()) - red.begin();
+    std::vector<double> ratios[2];  // main (chords), sub and cross (lacing)
+    for (std::size_t i = 0; i < full.size(); ++i) {
+      const TrussMember& mem = geometry->members[i];
+      stress_csv.row({run, std::to_string(i + 1), to_string(mem.kind), std::to_string(mem.a + 1), std::to_string(mem.b + 1),
+                      CsvTable::number(full[i]), CsvTable::number(red[i])});
+      if (full[i] >= 0.5 * full[static_cast<std::size_t>(top_full)])
+        ratios[mem.kind == TrussMemberKind::main ? 0 : 1].push_back(red[i] / full[i]);
+    }
+    auto median = [](std::vector<double> x) -> double {
+      if (x.empty()) return NAN;
+      std::nth_element(x.begin(), x.begin() + static_cast<long>(x.size() / 2), x.end());
+      return x[x.size() / 2];
+    };
+    auto worst = [](const std::vector<double>& x) -> double {
+      double w = NAN;
+      for (double r : x) w = (std::isnan(w) || std::abs(std::log(r)) > std::abs(std::log(w))) ? r : w;
+      return w;
+    };
+    auto label = [&](std::ptrdiff_t i) {
+      const TrussMember& mem = geometry->members[static_cast<std::size_t>(i)];
+      return std::string(to_string(mem.kind)) + " " + std::to_string(i + 1) + " (" + std::to_string(mem.a + 1) + "-" +
+             std::to_string(mem.b + 1) + ")";
+    };
+    const double largest = red[static_cast<std::size_t>(top_red)] / full[static_cast<std::size_t>(top_full)];
+    value["stress." + run + "_largest"] = largest;
+    value["stress." + run + "_chords"] = median(ratios[0]);
+    if (!ratios[1].empty()) value["stress." + run + "_lacing"] = median(ratios[1]);
+    char line[400];
+    std::snprintf(line, sizeof line, "| %s | %.4g, %s | %.4g, %s | %.4f | %.3f, %.3f | %.3f, %.3f |\n", run.c_str(),
+                  1e-6 * full[static_cast<std::size_t>(top_full)], label(top_full).c_str(),
+                  1e-6 * red[static_cast<std::size_t>(top_red)], label(top_red).c_str(), largest, median(ratios[0]),
+                  worst(ratios[0]), median(ratios[1]), worst(ratios[1]));
+    md << line;
+    std::printf("stresses %-11s largest full %.4g MPa (%s), reduced %.4g MPa (%s): %.4f; chords median %.3f, lacing median %.3f\n",
+                run.c_str(), 1e-6 * full[static_cast<std::size_t>(top_full)], label(top_full).c_str(),
+                1e-6 * red[static_cast<std::size_t>(top_red)], label(top_red).c_str(), largest, median(ratios[0]),
+                median(ratios[1]));
+  }
+
+  // 7. Cost.
   md << "\n### Size and cost\n\n| model | DoFs | multipliers | Jacobian nonzeros | wall time per step (self-weight run) |\n|---|---|---|---|---|\n";
   CsvTable cost(dir / "cost.csv", {"model", "dofs", "multipliers", "nonzeros", "seconds_per_step"});
   for (int i = 0; i < 2; ++i) {

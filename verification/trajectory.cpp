@@ -99,6 +99,17 @@ PetscErrorCode TrajectoryRecorder::record(double t, Vec U, Vec V, Parametrizatio
     for (std::size_t e = 0; e < axial.size(); ++e)
       axial[e] = state_.axial_force(static_cast<int>(e)).value_or(std::numeric_limits<double>::quiet_NaN());
     out_->axial.push_back(std::move(axial));
+    if (out_->record_member_peaks) {
+      auto& peaks = out_->member_peaks;
+      peaks.resize(sa_.model().elements.size());
+      ElementOutput o;
+      for (std::size_t e = 0; e < peaks.size(); ++e) {
+        const int ei = static_cast<int>(e);
+        sa_.model().elements[e].element->output(state_.element_slots(ei), state_.context(), o);
+        peaks[e].resize(o.members.size(), 0.0);
+        for (std::size_t m = 0; m < o.members.size(); ++m) peaks[e][m] = std::max(peaks[e][m], o.members[m].von_mises);
+      }
+    }
   }
   PetscFunctionReturn(0);
 }

@@ -21,6 +21,9 @@ struct Trajectory {
   std::vector<double> violation;          ///< max |g| over all constraints
   std::vector<std::vector<double>> axial;  ///< [step][element] axial force, NaN where none
   std::unique_ptr<ModelState> final_state;
+  /// Set before a run: record member_peaks (every element's output at every recorded step).
+  bool record_member_peaks = false;
+  std::vector<std::vector<double>> member_peaks;  ///< [element][member] largest von Mises stress over the run
 
   /// Linear interpolation of a joint coordinate at time t (must lie in the recorded range).
   double at(int joint, int component, double t) const;

@@ -58,7 +58,7 @@ inline StrutBlocks add_strut(ModelBuilder& b, const std::string& name, const Vec
   out.t1 = b.add_block(DofBlock::translation(p1, Vec3::Zero(), name + ".1"));
   out.t2 = b.add_block(DofBlock::translation(p2, Vec3::Zero(), name + ".2"));
   StrutTieProperties p;
-  p.material = Material{7800.0, E, 0.3, {}};
+  p.material = Material{7800.0, E, 0.3, {}, 0.0};
   p.section = round_tube_section(0.02, 0.0);
   p.rest_length = (p2 - p1).norm();
   p.smoothing = 1e-3;
@@ -76,7 +76,7 @@ inline StrutBlocks add_strut(ModelBuilder& b, const std::string& name, const Vec
 /// A flexible chain hung on a joint: a Timoshenko beam welded to it, a cubic spline beam sharing
 /// the beam's end node with its frame turned (slot offsets), a rope from there to the ground.
 inline void add_flexible_chain(ModelBuilder& b, int attach_joint, int ground_joint) {
-  const Material soft{2000.0, 5e6, 0.3, {}};
+  const Material soft{2000.0, 5e6, 0.3, {}, 0.0};
   const SectionProperties tube = round_tube_section(0.03, 0.02);
   const Vec3 p0 = Vec3(1.5, 1.0, 0.2) + Vec3(0.3, 0.1, 0.0), p1 = p0 + Vec3(0.6, 0.2, -0.1), p2 = p1 + Vec3(0.1, 0.5, 0.2);
   const Mat3 R01 = rotation_matrix<double>(Vec3(0.2, -0.3, 0.1)), R12 = rotation_matrix<double>(Vec3(-0.4, 0.2, 0.5));
@@ -102,7 +102,7 @@ inline void add_flexible_chain(ModelBuilder& b, int attach_joint, int ground_joi
                 {{t1}, {r1, R01.transpose() * spline_frame}, {s1}, {t2}, {r2, R12.transpose() * spline_frame}, {s2}});
   // A rope from the spline's end to the ground joint, slightly stretched.
   RopeProperties rope;
-  rope.material = Material{1000.0, 1e6, 0.3, {}};
+  rope.material = Material{1000.0, 1e6, 0.3, {}, 0.0};
   rope.section = round_tube_section(0.01, 0.0);
   const Vec3 pg = b.peek().blocks[b.peek().joints[ground_joint].translation_block].position0;
   rope.rest_length = 0.98 * (pg - p2).norm();
@@ -205,7 +205,7 @@ inline Model kitchen_sink_model() {
 /// A 5 m steel lattice section of rectangular cross-section (1.5 x 1.4 m), order 2.
 inline TrussSectionSpec rectangular_section() {
   TrussSectionSpec s = rectangular_truss_section(5.0, 2, 0.75, 0.7);
-  s.material = Material{7800, 2.06e11, 0.3, {}};
+  s.material = Material{7800, 2.06e11, 0.3, {}, 0.0};
   s.main_section = s.cross_section = round_tube_section(0.1, 0.08);
   s.sub_section = round_tube_section(0.05, 0.04);
   return s;

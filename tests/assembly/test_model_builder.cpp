@@ -143,7 +143,7 @@ TEST(ModelBuilder, FindsBodiesAndJointsByNameAndRefusesDuplicates) {
 TEST(MemberBuilder, BindsConsecutiveNodesInTheElementsSlotOrder) {
   ModelBuilder b;
   const int body = b.add_body("beam", "timoshenko_beam");
-  const BeamProperties beam{Material{7800, 2.1e11, 0.3, {}}, round_tube_section(0.05, 0.04), 1.0, 0.0};
+  const BeamProperties beam{Material{7800, 2.1e11, 0.3, {}, 0.0}, round_tube_section(0.05, 0.04), 1.0, 0.0};
   const Mat3 offset = rotation_matrix<double>(Vec3(0, 0, 0.3));
   std::vector<MemberNode> nodes;
   for (int k = 0; k < 3; ++k) {

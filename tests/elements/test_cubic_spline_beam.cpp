@@ -12,7 +12,7 @@ namespace {
 
 CubicSplineBeamProperties steel_tube(double L = 2.0) {
   CubicSplineBeamProperties p;
-  p.beam.material = Material{7800.0, 2.06e11, 0.3, {}};
+  p.beam.material = Material{7800.0, 2.06e11, 0.3, {}, 0.0};
   p.beam.section = round_tube_section(0.1, 0.08);
   p.beam.length = L;
   return p;
@@ -148,7 +148,7 @@ TEST(CubicSplineBeam, MassMatrixCarriesTheElementMass) {
 TEST(CubicSplineBeam, ShortElementsKeepTheirStiffnessAndMass) {
   for (double L : {0.005, 0.0025}) {
     CubicSplineBeamProperties p;
-    p.beam.material = Material{7800.0, 2.06e11, 0.3, {}};
+    p.beam.material = Material{7800.0, 2.06e11, 0.3, {}, 0.0};
     p.beam.section = round_tube_section(0.1, 0.0);
     p.beam.length = L;
     const CubicSplineBeam beam(p);

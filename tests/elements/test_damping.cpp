@@ -56,7 +56,7 @@ DampingPart damping_part(P props, RayleighDamping d, Material P::*material) {
 
 BeamProperties soft_tube() {
   BeamProperties p;
-  p.material = Material{7800.0, 2e6, 0.3, {}};  // soft: damping, elastic and inertial terms alike
+  p.material = Material{7800.0, 2e6, 0.3, {}, 0.0};  // soft: damping, elastic and inertial terms alike
   p.section = round_tube_section(0.1, 0.08);
   p.length = 2.0;
   return p;
@@ -135,7 +135,7 @@ TEST(Damping, CubicSplineBeamTangentsMatchFiniteDifferences) {
 
 TEST(Damping, RopeTangentsMatchFiniteDifferencesWithDrivenRestLength) {
   RopeProperties p;
-  p.material = Material{7800.0, 1e5, 0.3, {}};
+  p.material = Material{7800.0, 1e5, 0.3, {}, 0.0};
   p.section = round_tube_section(0.02, 0.0);
   p.drive = Drive(Drive::Sine{1.0, 0.3, 0.2, 10.0});  // L0 moving: eps_dot has a drive part
   p.fraction = 0.5;
@@ -146,7 +146,7 @@ TEST(Damping, RopeTangentsMatchFiniteDifferencesWithDrivenRestLength) {
 
 TEST(Damping, StrutTieTangentsMatchFiniteDifferencesAndAutomaticOnes) {
   StrutTieProperties p;
-  p.material = Material{7800.0, 1e4, 0.3, {}};
+  p.material = Material{7800.0, 1e4, 0.3, {}, 0.0};
   p.section = round_tube_section(0.3, 0.1);  // thick: the rotary part of alpha M v matters
   p.rest_length = 2.0;
   p.smoothing = 0.05;
@@ -186,11 +186,11 @@ TEST(Damping, StiffnessProportionalDampingLeavesRigidMotionOfAPrestressedElement
   CubicSplineBeamProperties sp_damped = sp;
   sp_damped.beam.material.damping = beta_only;
   RopeProperties rp;
-  rp.material = Material{7800.0, 1e5, 0.3, {}};
+  rp.material = Material{7800.0, 1e5, 0.3, {}, 0.0};
   rp.section = round_tube_section(0.02, 0.0);
   rp.rest_length = 5.0;
   StrutTieProperties tp;
-  tp.material = Material{7800.0, 1e4, 0.3, {}};
+  tp.material = Material{7800.0, 1e4, 0.3, {}, 0.0};
   tp.section = round_tube_section(0.3, 0.1);
   tp.rest_length = 2.0;
   const DampingPart parts[] = {
@@ -270,13 +270,13 @@ TEST(Damping, CoefficientsFromDampingRatios) {
 
 TEST(Damping, RefusedWhereItIsNotDefined) {
   RopeProperties rp;
-  rp.material = Material{7800.0, 1e11, 0.3, {}};
+  rp.material = Material{7800.0, 1e11, 0.3, {}, 0.0};
   rp.material.damping = {0.5, 0.0};
   rp.section = round_tube_section(0.02, 0.0);
   rp.rest_length = 5.0;
   EXPECT_THROW(Rope{rp}, std::invalid_argument);  // alpha on a rope
   TrussSectionSpec ts = rectangular_truss_section(6.0, 3, 1.5, 1.4);
-  ts.material = Material{7800, 2.06e11, 0.25, {}};
+  ts.material = Material{7800, 2.06e11, 0.25, {}, 0.0};
   ts.material.damping = {0.0, 1e-3};
   ts.main_section = ts.cross_section = round_tube_section(0.1, 0.08);
   ts.sub_section = round_tube_section(0.05, 0.04);

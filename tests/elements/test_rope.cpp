@@ -10,7 +10,7 @@ namespace {
 
 RopeProperties rope(double L0 = 5.0) {
   RopeProperties p;
-  p.material = Material{7800.0, 1e11, 0.3, {}};
+  p.material = Material{7800.0, 1e11, 0.3, {}, 0.0};
   p.section = round_tube_section(0.02, 0.0);
   p.rest_length = L0;
   return p;

@@ -10,7 +10,7 @@ namespace {
 
 StrutTieProperties sample(double h = 0.0) {
   StrutTieProperties p;
-  p.material = Material{7800.0, 2.06e11, 0.3, {}};
+  p.material = Material{7800.0, 2.06e11, 0.3, {}, 0.0};
   p.section = round_tube_section(0.05, 0.03);
   p.rest_length = 2.0;
   p.smoothing = h;

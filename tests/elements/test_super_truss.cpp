@@ -18,7 +18,7 @@ namespace {
 TrussSectionSpec rectangle(int order = 3, double length = 6.0, double E = 2.06e11) {
   TrussSectionSpec s = rectangular_truss_section(length, order, 1.5, 1.4);
   s.end2 = {{1.3, 1.2}, {-1.3, 1.2}, {-1.3, -1.2}, {1.3, -1.2}};  // shrinking: tapered main beams
-  s.material = Material{7800, E, 0.25, {}};
+  s.material = Material{7800, E, 0.25, {}, 0.0};
   s.main_section = s.cross_section = round_tube_section(0.1, 0.08);
   s.sub_section = round_tube_section(0.05, 0.04);
   return s;

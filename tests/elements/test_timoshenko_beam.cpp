@@ -13,7 +13,7 @@ namespace {
 
 BeamProperties steel_tube(double L = 2.0) {
   BeamProperties p;
-  p.material = Material{7800.0, 2.06e11, 0.3, {}};
+  p.material = Material{7800.0, 2.06e11, 0.3, {}, 0.0};
   p.section = round_tube_section(0.1, 0.08);
   p.length = L;
   return p;
@@ -147,7 +147,7 @@ TEST(TimoshenkoBeam, BatchEqualsSingleEvaluations) {
 // Mechanics of Materials, shear deflection of a cantilever). Thick beam: L = 5 h.
 TEST(TimoshenkoBeam, ThickCantileverDeflectionIncludesShear) {
   BeamProperties p;
-  p.material = Material{7800.0, 2.0e11, 0.3, {}};
+  p.material = Material{7800.0, 2.0e11, 0.3, {}, 0.0};
   p.section = round_tube_section(0.2, 0.0);
   p.length = 1.0;  // L / (2 r) = 2.5: shear matters
   const TimoshenkoBeam beam(p);

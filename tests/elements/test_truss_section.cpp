@@ -12,7 +12,7 @@ namespace {
 
 TrussSectionSpec rectangle(int order = 6, double length = 15.0) {  // Table D-3, type 2
   TrussSectionSpec s = rectangular_truss_section(length, order, 1.5, 1.4);
-  s.material = Material{7800, 2.06e11, 0.25, {}};
+  s.material = Material{7800, 2.06e11, 0.25, {}, 0.0};
   s.main_section = s.cross_section = round_tube_section(0.1, 0.08);
   s.sub_section = round_tube_section(0.05, 0.04);
   return s;

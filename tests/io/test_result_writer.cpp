@@ -264,12 +264,15 @@ void expect_xdmf_matches(const fs::path& xdmf, hid_t h5, const std::vector<doubl
   starts.push_back(text.size());
   const std::vector<std::string> reactions{"reaction_force [N]", "reaction_moment [N m]", "constraint"};
   const std::map<std::string, std::vector<std::string>> attributes{
-      {"members", {"displacement [m]", "axial_force [N]", "body", "element"}},
+      {"members",
+       {"displacement [m]", "axial_force [N]", "utilization", "von_mises [Pa]", "bending_moment [N m]",
+        "shear_force [N]", "torque [N m]", "body", "element"}},
       {"joints", {"velocity [m/s]", "axis_x", "axis_y", "axis_z", "body"}}};
   // HDF references per grid: lines, points, displacement (points now and at step 0), axial
-  // force, body, element; joints: vertices, positions, then one per attribute; a constraint: its
-  // position, force and moment (its vertex and index are inline numbers).
-  const std::map<std::string, int> references_per_grid{{"members", 7}, {"joints", 7}};
+  // force, the five member stress arrays, body, element; joints: vertices, positions, then one
+  // per attribute; a constraint: its position, force and moment (its vertex and index are inline
+  // numbers).
+  const std::map<std::string, int> references_per_grid{{"members", 12}, {"joints", 7}};
   for (std::size_t b = 0; b < blocks.size(); ++b) {
     const std::string block = text.substr(starts[b], starts[b + 1] - starts[b]);
     SCOPED_TRACE(blocks[b]);
@@ -673,7 +676,12 @@ bodies:
   const auto lines = read<int>(f.id, "/viz/lines");
   const auto element = read<int>(f.id, "/viz/element");
   const auto viz_axial = read<double>(f.id, "/viz/axial_force");
+  const auto viz_member = read<int>(f.id, "/viz/member");
+  const auto section_forces = read<double>(f.id, "/viz/section_forces");
+  const auto von_mises = read<double>(f.id, "/viz/von_mises");
   const ModelState& s = run.states[1];
+  ElementOutput out;
+  truss.output(s.element_slots(0), s.context(), out);
   const auto polylines = truss.axis_polylines(s.element_slots(0), s.context());
   const std::vector<double> forces = truss.member_axial_forces(s.element_slots(0));
   ASSERT_EQ(polylines.size(), forces.size());
@@ -687,6 +695,11 @@ bodies:
     for (std::size_t i = 0; i + 1 < polylines[m].size(); ++i, ++l) {
       EXPECT_EQ(element.v[l], 0);
       EXPECT_EQ(viz_axial.at({1, l}), forces[m]) << "member " << m;
+      // Each line carries its own member's recovered resultants and stress.
+      EXPECT_EQ(viz_member.v[l], static_cast<int>(m));
+      EXPECT_EQ(section_forces.at({1, l, 0}), out.members[m].end[0].N) << "member " << m;
+      EXPECT_EQ(section_forces.at({1, l, 10}), out.members[m].end[1].My) << "member " << m;
+      EXPECT_EQ(von_mises.at({1, l}), out.members[m].von_mises) << "member " << m;
       smallest = std::min(smallest, forces[m]);
       largest = std::max(largest, forces[m]);
     }

@@ -23,7 +23,7 @@ Model column(int n, double tip_force) {
   ModelBuilder b;
   b.set_gravity(Vec3::Zero());
   const int body = b.add_body("column", "timoshenko_beam");
-  BeamProperties p{Material{7800, kE, kNu, {}}, round_tube_section(kRadius, 0.0), kLength / n, 0.0};
+  BeamProperties p{Material{7800, kE, kNu, {}, 0.0}, round_tube_section(kRadius, 0.0), kLength / n, 0.0};
   auto beam = std::make_shared<TimoshenkoBeam>(p);
   std::vector<int> t, r;
   for (int k = 0; k <= n; ++k) {

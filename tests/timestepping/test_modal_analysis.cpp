@@ -20,7 +20,7 @@ Model cantilever(int n, bool clamped, RayleighDamping damping = {}) {
   ModelBuilder b;
   const int body = b.add_body("beam", "timoshenko_beam");
   const double L = 15.0;
-  BeamProperties p{Material{7800, 2.06e11, 0.25, damping}, round_tube_section(0.15, 0.0), L / n, 0.0};
+  BeamProperties p{Material{7800, 2.06e11, 0.25, damping, 0.0}, round_tube_section(0.15, 0.0), L / n, 0.0};
   auto beam = std::make_shared<TimoshenkoBeam>(p);
   std::vector<int> t, r;
   for (int k = 0; k <= n; ++k) {

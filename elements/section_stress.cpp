@@ -1,0 +1,118 @@
+// Stresses of round tubes, frames and custom sections at their checked points.
+#include "elements/section_stress.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace latticedyn {
+
+namespace {
+
+struct Point {
+  double sigma, tau;
+};
+
+void take(SectionStress& s, const Point& p) {
+  s.normal = std::max(s.normal, std::abs(p.sigma));
+  s.shear = std::max(s.shear, std::abs(p.tau));
+  s.von_mises = std::max(s.von_mises, std::sqrt(p.sigma * p.sigma + 3 * p.tau * p.tau));
+}
+
+double normal_stress(const SectionProperties& c, const SectionForces& f, double y, double z) {
+  return f.N / c.area + f.My * z / c.Iy - f.Mz * y / c.Iz;
+}
+
+SectionStress round_tube(const SectionProperties& c, const SectionForces& f) {
+  const double ro = c.outer_radius, ri = c.inner_radius;
+  const double k = 4.0 / 3.0 * (ro * ro + ro * ri + ri * ri) / (ro * ro + ri * ri);
+  const double tau_t = f.T * ro / c.torsion_constant;
+  SectionStress s;
+  auto at = [&](double phi) {
+    const double y = ro * std::cos(phi), z = ro * std::sin(phi);
+    // Shear along the tangent (-sin, cos): torsion and the shear force's flow.
+    const double q_t = -f.Qy * std::sin(phi) + f.Qz * std::cos(phi);
+    take(s, Point{normal_stress(c, f, y, z), tau_t + k * q_t / c.area});
+  };
+  constexpr int kPoints = 72;
+  for (int i = 0; i < kPoints; ++i) at(2 * std::numbers::pi * i / kPoints);
+  // The extremes of bending, at (y, z) along (-Mz, My), and of the shear force's flow, where the
+  // tangent lies along Q: exact maxima of the normal and the shear stress.
+  for (double phi : {std::atan2(f.My, -f.Mz), std::atan2(-f.Qy, f.Qz)}) {
+    at(phi);
+    at(phi + std::numbers::pi);
+  }
+  return s;
+}
+
+SectionStress frame(const SectionProperties& c, const SectionForces& f) {
+  const double h = c.height, b = c.width, t = c.thickness;
+  SectionStress s;
+  const bool solid = 2 * t >= std::min(h, b);
+  double tau_t, tau_qy, tau_qz;  // at the wall middles
+  if (solid) {
+    const double a = std::max(h, b), d = std::min(h, b);
+    tau_t = std::abs(f.T) * (3 * a + 1.8 * d) / (a * a * d * d);  // Roark, Table 10.1 case 4
+    tau_qy = 1.5 * std::abs(f.Qy) / c.area;
+    tau_qz = 1.5 * std::abs(f.Qz) / c.area;
+  } else {
+    tau_t = std::abs(f.T) / (2 * (b - t) * (h - t) * t);  // Bredt
+    // First moments of half the section about the neutral axis (flange plus two half webs).
+    const double s_y = b * t * (h - t) / 2 + t * (h / 2 - t) * (h / 2 - t);
+    const double s_z = h * t * (b - t) / 2 + t * (b / 2 - t) * (b / 2 - t);
+    tau_qz = std::abs(f.Qz) * s_y / (c.Iy * 2 * t);
+    tau_qy = std::abs(f.Qy) * s_z / (c.Iz * 2 * t);
+  }
+  for (double y : {-b / 2, b / 2})
+    for (double z : {-h / 2, h / 2}) take(s, Point{normal_stress(c, f, y, z), tau_t});
+  for (double y : {-b / 2, b / 2}) take(s, Point{normal_stress(c, f, y, 0.0), tau_t + tau_qz});
+  for (double z : {-h / 2, h / 2}) take(s, Point{normal_stress(c, f, 0.0, z), tau_t + tau_qy});
+  return s;
+}
+
+SectionStress custom(const SectionProperties& c, double nu, const SectionForces& f) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  if (!(c.fibre_y > 0 && c.fibre_z > 0)) return SectionStress{nan, nan, nan};
+  const double r = std::hypot(c.fibre_y, c.fibre_z);
+  const double tau = std::abs(f.T) * r / c.torsion_constant +
+                     std::hypot(f.Qy, f.Qz) / (c.shear_coefficient(nu) * c.area);
+  SectionStress s;
+  for (double y : {-c.fibre_y, c.fibre_y})
+    for (double z : {-c.fibre_z, c.fibre_z}) take(s, Point{normal_stress(c, f, y, z), tau});
+  return s;
+}
+
+}  // namespace
+
+SectionStress section_stress(const SectionProperties& section, double poisson_ratio, const SectionForces& f) {
+  switch (section.shape) {
+    case SectionProperties::Shape::round_tube: return round_tube(section, f);
+    case SectionProperties::Shape::frame: return frame(section, f);
+    case SectionProperties::Shape::custom: return custom(section, poisson_ratio, f);
+  }
+  return custom(section, poisson_ratio, f);
+}
+
+MemberStress member_stress(const SectionProperties& section, const Material& material, const SectionForces& end1,
+                           const SectionForces& end2, std::initializer_list<SectionForces> between) {
+  MemberStress m;
+  m.end = {end1, end2};
+  double vm = section_stress(section, material.poisson_ratio, end1).von_mises;
+  vm = std::max(vm, section_stress(section, material.poisson_ratio, end2).von_mises);
+  for (const SectionForces& f : between) vm = std::max(vm, section_stress(section, material.poisson_ratio, f).von_mises);
+  m.von_mises = vm;  // NaN stays NaN: std::max(NaN, x) returns NaN as its first argument
+  if (material.yield_stress > 0) m.utilization = vm / material.yield_stress;
+  return m;
+}
+
+MemberStress bar_stress(const SectionProperties& section, const Material& material, double axial_force) {
+  SectionForces f;
+  f.N = axial_force;
+  MemberStress m;
+  m.end = {f, f};
+  m.von_mises = std::abs(axial_force) / section.area;
+  if (material.yield_stress > 0) m.utilization = m.von_mises / material.yield_stress;
+  return m;
+}
+
+}  // namespace latticedyn
