@@ -123,6 +123,25 @@ void local_moments(const CorotationalStiffnessT<K>& k, const Vec3T<S>& a, const 
   m2 = Vec3T<S>(twist * k.gj, b(1) * k.ky[0] + a(1) * k.ky[1], b(2) * k.kz[0] + a(2) * k.kz[1]);
 }
 
+/// The deformation measures e = (u, theta_1, theta_2) of the local beam, U = e^T K_l e / 2.
+template <class S>
+std::array<S, 7> corotational_deformation_measures(const CorotationalDeformation<S>& def) {
+  return {def.u, def.th1(0), def.th1(1), def.th1(2), def.th2(0), def.th2(1), def.th2(2)};
+}
+
+/// K_l of U = e^T K_l e / 2 in the measures above (Kelvin-Voigt damping acts through it).
+inline Eigen::MatrixXd corotational_local_stiffness(const CorotationalStiffness& k) {
+  Eigen::MatrixXd K = Eigen::MatrixXd::Zero(7, 7);
+  K(0, 0) = k.ea;
+  K(1, 1) = K(4, 4) = k.gj;
+  K(1, 4) = K(4, 1) = -k.gj;
+  K(2, 2) = K(5, 5) = k.ky[0];
+  K(2, 5) = K(5, 2) = k.ky[1];
+  K(3, 3) = K(6, 6) = k.kz[0];
+  K(3, 6) = K(6, 3) = k.kz[1];
+  return K;
+}
+
 /// Stress resultants at the two ends of the local linear beam, in the co-rotational frame: N = EA
 /// u/L0, the end moments m_i = dU/dtheta_i acting on the beam (section moments -m_1 at end 1,
 /// +m_2 at end 2), the shears from the beam's equilibrium under them, Qy = -(m1z + m2z)/L0,

@@ -177,22 +177,23 @@ std::vector<Vec3> CubicSplineBeam::axis_points(std::span<const SlotState<double>
 
 void CubicSplineBeam::output(std::span<const SlotState<double>> s, const ElementContext& ctx, ElementOutput& out) const {
   Element::output(s, ctx, out);
-  static constexpr double kXi[3] = {0.0, 0.5, 1.0};
-  double e[12];
-  strains_at<double>(s[3].pos - s[0].pos, s[1].rot, s[2].pos(0), s[4].rot, s[5].pos(0), kXi, e);
-  SectionForces f[3];
-  for (int k = 0; k < 3; ++k) {
+  // The ends, then the Gauss points (where the strain energy samples the strains).
+  std::vector<double> xi = {0.0, 1.0};
+  xi.insert(xi.end(), xi_.begin(), xi_.end());
+  std::vector<double> e(4 * xi.size());
+  strains_at<double>(s[3].pos - s[0].pos, s[1].rot, s[2].pos(0), s[4].rot, s[5].pos(0), xi, e);
+  std::vector<SectionForces> f(xi.size());
+  for (std::size_t k = 0; k < xi.size(); ++k) {
     f[k].N = ea_ * e[4 * k];
     f[k].T = stiffness_(0) * e[4 * k + 1];
     f[k].My = stiffness_(1) * e[4 * k + 2];
     f[k].Mz = stiffness_(2) * e[4 * k + 3];
   }
-  for (SectionForces& g : f) {
-    g.Qy = -(f[2].Mz - f[0].Mz) / L_;
-    g.Qz = (f[2].My - f[0].My) / L_;
-  }
+  // The cubic's curvature is linear to first order: the shear forces from the ends' moments.
+  const double qy = -(f[1].Mz - f[0].Mz) / L_, qz = (f[1].My - f[0].My) / L_;
+  for (SectionForces& g : f) g.Qy = qy, g.Qz = qz;
   const BeamProperties& b = props_.beam;
-  out.members.assign(1, member_stress(b.section, b.material, f[0], f[2], {f[1]}));
+  out.members.assign(1, member_stress(b.section, b.material, f[0], f[1], std::span(f).subspan(2)));
 }
 
 }  // namespace latticedyn

@@ -66,8 +66,9 @@ class CubicSplineBeam final : public AutoDiffElement<CubicSplineBeam, 14> {
   template <class S>
   void strains_at(const Vec3T<S>& d, const Mat3T<S>& R1, const S& s1, const Mat3T<S>& R2, const S& s2,
                   std::span<const double> xi, std::span<S> strains) const;
-  /// The default output plus section forces at both ends and the middle, from the strains
-  /// (N = EA eps, T = GJ kx, My = EIy ky, Mz = EIz kz; Qy = -dMz/ds, Qz = dMy/ds across the element).
+  /// The default output plus section forces at both ends from the strains (N = EA eps, T = GJ kx,
+  /// My = EIy ky, Mz = EIz kz; Qy = -dMz/ds, Qz = dMy/ds across the element), the von Mises
+  /// stress the largest over the ends and the Gauss points.
   void output(std::span<const SlotState<double>> state, const ElementContext& ctx, ElementOutput& out) const override;
 
  private:

@@ -94,7 +94,7 @@ SectionStress section_stress(const SectionProperties& section, double poisson_ra
 }
 
 MemberStress member_stress(const SectionProperties& section, const Material& material, const SectionForces& end1,
-                           const SectionForces& end2, std::initializer_list<SectionForces> between) {
+                           const SectionForces& end2, std::span<const SectionForces> between) {
   MemberStress m;
   m.end = {end1, end2};
   double vm = section_stress(section, material.poisson_ratio, end1).von_mises;

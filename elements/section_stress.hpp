@@ -5,8 +5,8 @@
 #include "elements/section.hpp"
 
 #include <array>
-#include <initializer_list>
 #include <limits>
+#include <span>
 
 namespace latticedyn {
 
@@ -49,7 +49,7 @@ struct MemberStress {
 /// The member's record from its end resultants (and any points between, for elements whose
 /// moments are not linear).
 MemberStress member_stress(const SectionProperties& section, const Material& material, const SectionForces& end1,
-                           const SectionForces& end2, std::initializer_list<SectionForces> between = {});
+                           const SectionForces& end2, std::span<const SectionForces> between = {});
 
 /// A bar's (strut tie's, rope's) record: the axial force alone.
 MemberStress bar_stress(const SectionProperties& section, const Material& material, double axial_force);

@@ -3,6 +3,8 @@
 // rotary inertia of the nodes through the map's rotations.
 #include "elements/super_truss.hpp"
 
+#include "elements/strain_rate_damping.hpp"
+
 #include <omp.h>
 
 #include <algorithm>
@@ -15,11 +17,11 @@ namespace {
 
 const TrussSectionSpec& validated(const TrussSectionSpec& spec) {
   spec.validate();
-  // Its members' deformation rates need the node map's second derivatives contracted with the
-  // coordinates' rates, which the element does not form yet: refused rather than ignored.
-  if (spec.material.damping.active())
-    throw std::invalid_argument("damping is not available for super truss elements yet (use a lattice body, every "
-                                "member a beam, or damp the crane through its ropes and joints)");
+  // Mass-proportional damping would need the map's velocity terms of M(q) v, which the element
+  // does not form yet: refused rather than ignored.
+  if (spec.material.damping.alpha != 0)
+    throw std::invalid_argument("mass-proportional damping (alpha) is not available for super truss elements yet: give "
+                                "beta (or one damping ratio at a frequency), or use a lattice body");
   return spec;
 }
 
@@ -376,6 +378,7 @@ void SuperTrussElement::residual(std::span<const SlotState<double>> s, const Ele
                                  Eigen::Ref<VecX> r) const {
   Vec12 rr;
   evaluate(s, ctx, rr, nullptr);
+  add_damping(s, ctx, rr, nullptr);
   r = rr;
 }
 
@@ -384,7 +387,54 @@ void SuperTrussElement::tangents(std::span<const SlotState<double>> s, const Ele
   out.resize(12);
   Vec12 rr;
   evaluate(s, ctx, rr, &out);
+  add_damping(s, ctx, rr, &out);
   out.residual = rr;
+}
+
+namespace {
+
+// Every member's Kelvin-Voigt force through the map, with the node poses as AD numbers in the
+// element's 12 coordinates (Seeds: EnergyAD<12>'s first or second order).
+template <class Seeds, class Add>
+void member_damping(const SuperTrussMap& map, const std::vector<SuperTrussElement::Member>& members,
+                    std::span<const SlotState<double>> s, Seeds& ad, double beta, Add&& add) {
+  using S = typename Seeds::S;
+  thread_local std::vector<Vec3T<S>> p;
+  thread_local std::vector<Mat3T<S>> R;
+  map.node_poses<S>(ad.vec(s[0].pos, 0), ad.rot(s[1].rot, 3), ad.vec(s[2].pos, 6), ad.rot(s[3].rot, 9), p, R);
+  for (const SuperTrussElement::Member& m : members) {
+    const CorotationalStiffness& k = m.beam->stiffness();
+    const auto def = corotational_deformation<S>(k, Vec3T<S>(p[m.b] - p[m.a]), Mat3T<S>(R[m.a] * m.offset_a),
+                                                 Mat3T<S>(R[m.b] * m.offset_b));
+    add(corotational_deformation_measures(def), beta * corotational_local_stiffness(k));
+  }
+}
+
+}  // namespace
+
+void SuperTrussElement::add_damping(std::span<const SlotState<double>> s, const ElementContext& ctx, Vec12& r,
+                                    ElementTangents* t) const {
+  const double beta = spec_.material.damping.beta;
+  if (!(beta > 0) || ctx.at_rest) return;
+  Vec12 v;
+  v << s[0].vel, s[1].vel, s[2].vel, s[3].vel;
+  Vec12 f = Vec12::Zero();
+  if (!t) {
+    EnergyAD<12>::FirstOrder ad;
+    member_damping(map_, members_, s, ad, beta, [&](const auto& e, const MatX& Cd) {
+      add_strain_rate_damping_force<12>(std::span(e), Cd, v, f);
+    });
+    r += f;
+    return;
+  }
+  EnergyAD<12>::SecondOrder ad;
+  Mat12 K = Mat12::Zero(), C = Mat12::Zero();
+  member_damping(map_, members_, s, ad, beta, [&](const auto& e, const MatX& Cd) {
+    add_strain_rate_damping<12>(std::span(e), ad, Cd, v, f, K, C);
+  });
+  r += f;
+  t->K += K;
+  t->C += C;
 }
 
 ElementEnergy SuperTrussElement::energy(std::span<const SlotState<double>> s, const ElementContext& ctx) const {

@@ -93,6 +93,10 @@ class SuperTrussElement final : public Element {
   struct Evaluation;
   struct MemberLoads;
   void evaluate(std::span<const SlotState<double>> s, const ElementContext& ctx, Vec12& r, ElementTangents* t) const;
+  /// The material's beta as Kelvin-Voigt damping of every member's co-rotated deformation, its
+  /// rates through the map (node poses by automatic differentiation in the 12 coordinates: exact,
+  /// but a damped super truss costs several times an undamped one).
+  void add_damping(std::span<const SlotState<double>> s, const ElementContext& ctx, Vec12& r, ElementTangents* t) const;
   /// The members of batches [first, last), four at a time: their forces on the nodes and, with
   /// tangent, their stiffness projected with the node Jacobians.
   void add_members(const Evaluation& kinematics, int first, int last, MemberLoads& out, bool tangent) const;

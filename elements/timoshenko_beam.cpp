@@ -62,27 +62,6 @@ void TimoshenkoBeam::inertia(std::span<const SlotState<double>> s, const Element
   }
 }
 
-namespace {
-
-// The local stiffness of the co-rotated deformation e = (u, theta_1, theta_2): U = e^T K_l e / 2.
-MatX local_stiffness(const CorotationalStiffness& k) {
-  MatX K = MatX::Zero(7, 7);
-  K(0, 0) = k.ea;
-  K(1, 1) = K(4, 4) = k.gj;
-  K(1, 4) = K(4, 1) = -k.gj;
-  K(2, 2) = K(5, 5) = k.ky[0];
-  K(2, 5) = K(5, 2) = k.ky[1];
-  K(3, 3) = K(6, 6) = k.kz[0];
-  K(3, 6) = K(6, 3) = k.kz[1];
-  return K;
-}
-
-template <class S>
-std::array<S, 7> deformation_measures(const CorotationalDeformation<S>& def) {
-  return {def.u, def.th1(0), def.th1(1), def.th1(2), def.th2(0), def.th2(1), def.th2(2)};
-}
-
-}  // namespace
 
 void TimoshenkoBeam::add_damping(std::span<const SlotState<double>> s, const ElementContext& ctx, Eigen::Ref<VecX> r,
                                  ElementTangents* t) const {
@@ -101,7 +80,7 @@ void TimoshenkoBeam::add_damping(std::span<const SlotState<double>> s, const Ele
     }
   }
   if (damping.beta <= 0) return;
-  const MatX Cd = damping.beta * local_stiffness(stiffness_);
+  const MatX Cd = damping.beta * corotational_local_stiffness(stiffness_);
   Vec9 v;
   v << s[2].vel - s[0].vel, s[1].vel, s[3].vel;
   Vec9 f = Vec9::Zero();
@@ -110,7 +89,7 @@ void TimoshenkoBeam::add_damping(std::span<const SlotState<double>> s, const Ele
     using Seeds = EnergyAD<9>::FirstOrder;
     Seeds ad;
     const auto def = corotational_deformation<Seeds::S>(stiffness_, ad.vec(d, 0), ad.rot(s[1].rot, 3), ad.rot(s[3].rot, 6));
-    const auto e = deformation_measures(def);
+    const auto e = corotational_deformation_measures(def);
     add_strain_rate_damping_force<9>(e, Cd, v, f);
     r += expand_force(f);
     return;
@@ -118,7 +97,7 @@ void TimoshenkoBeam::add_damping(std::span<const SlotState<double>> s, const Ele
   using Seeds = EnergyAD<9>::SecondOrder;
   Seeds ad;
   const auto def = corotational_deformation<Seeds::S>(stiffness_, ad.vec(d, 0), ad.rot(s[1].rot, 3), ad.rot(s[3].rot, 6));
-  const auto e = deformation_measures(def);
+  const auto e = corotational_deformation_measures(def);
   Mat9 K = Mat9::Zero(), C = Mat9::Zero();
   add_strain_rate_damping<9>(e, ad, Cd, v, f, K, C);
   r += expand_force(f);

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <numbers>
 #include <string>
 
 namespace latticedyn {
@@ -319,10 +320,23 @@ Result evaluate(const InputNode& c, const Trajectory& tr, const std::filesystem:
     return compare(c, "position " + label + " at t = " + std::to_string(t), v);
   }
   if (what == "damping_ratio") {
-    c.allow_only({"what", "joint", "component", "from", "expected", "abs_tol", "rel_tol"});
+    // The measured ratio against `expected`, or against Rayleigh's alpha / (2 omega) + beta omega / 2
+    // at the measured frequency (for models whose frequency has no closed form).
+    c.allow_only({"what", "joint", "component", "from", "expected", "rayleigh", "abs_tol", "rel_tol"});
     const double from = c.has("from") ? c["from"].as_double() : -1e300;
-    return compare(c, "damping ratio of " + label + (c.has("from") ? " from t = " + c["from"].as_string() + " s" : ""),
-                   tr.damping_ratio(joint, comp, from));
+    double omega = NAN;
+    const double zeta = tr.damping_ratio(joint, comp, from, &omega);
+    std::string text = "damping ratio of " + label + (c.has("from") ? " from t = " + c["from"].as_string() + " s" : "");
+    if (!c.has("rayleigh")) return compare(c, text, zeta);
+    const InputNode ray = c["rayleigh"];
+    ray.allow_only({"alpha", "beta"});
+    const RayleighDamping d{ray.get_non_negative("alpha", 0.0), ray.get_non_negative("beta", 0.0)};
+    if (c.has("expected")) c["expected"].fail("give either expected or rayleigh, not both");
+    const double expected = d.ratio(omega);
+    const double tol = c.has("abs_tol") ? c["abs_tol"].as_positive() : c["rel_tol"].as_positive() * expected;
+    char buf[200];
+    std::snprintf(buf, sizeof buf, "%.10g +- %.3g (Rayleigh at the measured %.6g Hz)", expected, tol, omega / (2 * std::numbers::pi));
+    return Result{text, zeta, buf, std::isfinite(zeta) && std::abs(zeta - expected) <= tol};
   }
   if (what == "period") {
     c.allow_only({"what", "joint", "component", "from", "expected", "abs_tol", "rel_tol"});

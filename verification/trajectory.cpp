@@ -37,7 +37,7 @@ double Trajectory::period(int joint, int component, double from) const {
   return (crossings.back() - crossings.front()) / static_cast<double>(crossings.size() - 1);
 }
 
-double Trajectory::damping_ratio(int joint, int component, double from) const {
+double Trajectory::damping_ratio(int joint, int component, double from, double* omega_n) const {
   std::vector<double> te, xe;  // extrema
   for (std::size_t i = 1; i + 1 < time.size(); ++i) {
     if (time[i - 1] < from) continue;
@@ -60,6 +60,7 @@ double Trajectory::damping_ratio(int joint, int component, double from) const {
   const double sigma = -(n * sty - st * sy) / (n * stt - st * st);
   const double half_period = (te.back() - te.front()) / static_cast<double>(n);
   const double omega_d = std::numbers::pi / half_period;
+  if (omega_n) *omega_n = std::sqrt(sigma * sigma + omega_d * omega_d);
   return sigma / std::sqrt(sigma * sigma + omega_d * omega_d);
 }
 

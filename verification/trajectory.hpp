@@ -34,8 +34,9 @@ struct Trajectory {
   /// the extrema (refined by a parabola through each sampled extremum and its neighbours), the
   /// decay rate sigma from a least-squares line through the logarithms of the half-cycle ranges
   /// |x_{k+1} - x_k| (independent of where the oscillation is centred), the damped frequency from
-  /// the extrema's spacing, zeta = sigma / sqrt(sigma^2 + omega_d^2). NaN with fewer than 4 extrema.
-  double damping_ratio(int joint, int component, double from = -1e300) const;
+  /// the extrema's spacing, zeta = sigma / sqrt(sigma^2 + omega_d^2) (and with omega_n the undamped
+  /// circular frequency sqrt(sigma^2 + omega_d^2)). NaN with fewer than 4 extrema.
+  double damping_ratio(int joint, int component, double from = -1e300, double* omega_n = nullptr) const;
   /// max |E - E0| / max kinetic energy.
   double energy_drift() const;
 };

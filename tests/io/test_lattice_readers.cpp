@@ -101,9 +101,9 @@ TEST(LatticeReaders, TrussBodiesSwitchesEveryLatticeBody) {
   EXPECT_EQ(full.bodies[full.find_body("mid")].elements.size(), 56u);
 }
 
-// A damped material reaches every member of a lattice; a super truss refuses it (its members'
-// deformation rates are not formed yet) at the body's section, rather than dropping it.
-TEST(LatticeReaders, DampedMaterialDampsTheMembersAndIsRefusedByASuperTruss) {
+// A damped material reaches every member of a lattice and of a super truss; a super truss refuses
+// mass-proportional damping (not formed yet) at the body's section, rather than dropping it.
+TEST(LatticeReaders, DampedMaterialDampsTheMembersAndAlphaIsRefusedByASuperTruss) {
   std::string text = kLattice;
   text.replace(text.find("poisson_ratio: 0.25}"), 20, "poisson_ratio: 0.25, damping: {beta: 0.001}}");
   const Model m = read_simulation_from_string(text, "lattice.yaml").model;
@@ -112,6 +112,9 @@ TEST(LatticeReaders, DampedMaterialDampsTheMembersAndIsRefusedByASuperTruss) {
   ASSERT_NE(beam, nullptr);
   EXPECT_DOUBLE_EQ(beam->properties().material.damping.beta, 0.001);
   text.replace(text.find("[foot.e2n1, mid.e1n1]"), 21, "[foot.2, mid.1]");
+  EXPECT_NO_THROW(read_simulation_from_string(text + "truss_bodies: super_truss\n", "lattice.yaml"));
+  const std::string beta = "damping: {beta: 0.001}";
+  text.replace(text.find(beta), beta.size(), "damping: {alpha: 0.1}");
   try {
     read_simulation_from_string(text + "truss_bodies: super_truss\n", "lattice.yaml");
     FAIL() << "a damped super truss was accepted";
