@@ -5,6 +5,8 @@
 
 #include "elements/strain_rate_damping.hpp"
 
+#include <unsupported/Eigen/KroneckerProduct>
+
 #include <omp.h>
 
 #include <algorithm>
@@ -17,11 +19,6 @@ namespace {
 
 const TrussSectionSpec& validated(const TrussSectionSpec& spec) {
   spec.validate();
-  // Mass-proportional damping would need the map's velocity terms of M(q) v, which the element
-  // does not form yet: refused rather than ignored.
-  if (spec.material.damping.alpha != 0)
-    throw std::invalid_argument("mass-proportional damping (alpha) is not available for super truss elements yet: give "
-                                "beta (or one damping ratio at a frequency), or use a lattice body");
   return spec;
 }
 
@@ -127,6 +124,17 @@ SuperTrussElement::SuperTrussElement(const TrussSectionSpec& spec, const TrussGe
     weight_point_ += map_.node(n).point * lumped_.weight[n];
     if (map_.node(n).end != 0) end_rotary_[map_.node(n).end - 1] += lumped_.rotary[n];
   }
+  // The kinetic energy as quadratic forms of point and frame-column rates, for mass-proportional
+  // damping: (1/2) e_dot^T (Z (x) I3) e_dot over the 8 basis points e = (r1, r2, R1 e_j, R2 e_j),
+  // plus each rotary inertia J as (1/2) tr(R_dot E R_dot^T) with E = tr(J)/2 I - J over its frame's
+  // columns (omega^T J omega = tr(S E S^T) for S = skew(omega)).
+  auto second_moment = [](const Mat3& J) -> Mat3 { return 0.5 * J.trace() * Mat3::Identity() - J; };
+  const Eigen::Matrix<double, 8, 8> Zs = 0.5 * (Z + Z.transpose());
+  kinetic_form_ = Eigen::kroneckerProduct(Zs, Mat3::Identity());
+  for (int i = 0; i < 2; ++i)
+    kinetic_form_.block<9, 9>(6 + 9 * i, 6 + 9 * i) += Eigen::kroneckerProduct(second_moment(end_rotary_[i]), Mat3::Identity());
+  for (int n : map_.internal_nodes())
+    internal_kinetic_form_.push_back(Eigen::kroneckerProduct(second_moment(lumped_.rotary[n]), Mat3::Identity()));
 }
 
 void SuperTrussElement::gather(const std::vector<Vec3>& p, const std::vector<Mat3>& R, const MemberBatch& bt,
@@ -391,46 +399,66 @@ void SuperTrussElement::tangents(std::span<const SlotState<double>> s, const Ele
   out.residual = rr;
 }
 
-namespace {
-
-// Every member's Kelvin-Voigt force through the map, with the node poses as AD numbers in the
-// element's 12 coordinates (Seeds: EnergyAD<12>'s first or second order).
 template <class Seeds, class Add>
-void member_damping(const SuperTrussMap& map, const std::vector<SuperTrussElement::Member>& members,
-                    std::span<const SlotState<double>> s, Seeds& ad, double beta, Add&& add) {
+void SuperTrussElement::damping_measures(std::span<const SlotState<double>> s, Seeds& ad, Add&& add) const {
   using S = typename Seeds::S;
+  const RayleighDamping& d = spec_.material.damping;
+  // Each rotation seeded once: EnergyAD adds its right-perturbation term once per seed.
+  const Vec3T<S> r1 = ad.vec(s[0].pos, 0), r2 = ad.vec(s[2].pos, 6);
+  const Mat3T<S> R1 = ad.rot(s[1].rot, 3), R2 = ad.rot(s[3].rot, 9);
+  if (d.alpha > 0) {
+    std::array<S, 24> e;
+    const Vec3T<S>* basis[8] = {&r1, &r2, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr};
+    for (int k = 0; k < 8; ++k) {
+      const Vec3T<S> x = k < 2 ? *basis[k] : Vec3T<S>(k < 5 ? R1.col(k - 2) : R2.col(k - 5));
+      for (int i = 0; i < 3; ++i) e[static_cast<std::size_t>(3 * k + i)] = x(i);
+    }
+    add(std::span<const S>(e), MatX(d.alpha * kinetic_form_));
+  }
+  const bool internal_rotary = d.alpha > 0 && !internal_kinetic_form_.empty();
+  if (!(d.beta > 0) && !internal_rotary) return;
   thread_local std::vector<Vec3T<S>> p;
   thread_local std::vector<Mat3T<S>> R;
-  map.node_poses<S>(ad.vec(s[0].pos, 0), ad.rot(s[1].rot, 3), ad.vec(s[2].pos, 6), ad.rot(s[3].rot, 9), p, R);
-  for (const SuperTrussElement::Member& m : members) {
+  map_.node_poses<S>(r1, R1, r2, R2, p, R);
+  if (internal_rotary) {
+    const std::vector<int>& internal = map_.internal_nodes();
+    for (std::size_t k = 0; k < internal.size(); ++k) {
+      const Mat3T<S>& Rn = R[static_cast<std::size_t>(internal[k])];
+      std::array<S, 9> e;
+      for (int j = 0; j < 3; ++j)
+        for (int i = 0; i < 3; ++i) e[static_cast<std::size_t>(3 * j + i)] = Rn(i, j);
+      add(std::span<const S>(e), MatX(d.alpha * internal_kinetic_form_[k]));
+    }
+  }
+  if (!(d.beta > 0)) return;
+  for (const Member& m : members_) {
     const CorotationalStiffness& k = m.beam->stiffness();
     const auto def = corotational_deformation<S>(k, Vec3T<S>(p[m.b] - p[m.a]), Mat3T<S>(R[m.a] * m.offset_a),
                                                  Mat3T<S>(R[m.b] * m.offset_b));
-    add(corotational_deformation_measures(def), beta * corotational_local_stiffness(k));
+    const auto e = corotational_deformation_measures(def);
+    add(std::span<const S>(e), MatX(d.beta * corotational_local_stiffness(k)));
   }
 }
 
-}  // namespace
-
 void SuperTrussElement::add_damping(std::span<const SlotState<double>> s, const ElementContext& ctx, Vec12& r,
                                     ElementTangents* t) const {
-  const double beta = spec_.material.damping.beta;
-  if (!(beta > 0) || ctx.at_rest) return;
+  const RayleighDamping& d = spec_.material.damping;
+  if (!d.active() || ctx.at_rest) return;
   Vec12 v;
   v << s[0].vel, s[1].vel, s[2].vel, s[3].vel;
   Vec12 f = Vec12::Zero();
   if (!t) {
     EnergyAD<12>::FirstOrder ad;
-    member_damping(map_, members_, s, ad, beta, [&](const auto& e, const MatX& Cd) {
-      add_strain_rate_damping_force<12>(std::span(e), Cd, v, f);
+    damping_measures(s, ad, [&](std::span<const Dual<12>> e, const MatX& Cd) {
+      add_strain_rate_damping_force<12>(e, Cd, v, f);
     });
     r += f;
     return;
   }
   EnergyAD<12>::SecondOrder ad;
   Mat12 K = Mat12::Zero(), C = Mat12::Zero();
-  member_damping(map_, members_, s, ad, beta, [&](const auto& e, const MatX& Cd) {
-    add_strain_rate_damping<12>(std::span(e), ad, Cd, v, f, K, C);
+  damping_measures(s, ad, [&](std::span<const HyperDual<12>> e, const MatX& Cd) {
+    add_strain_rate_damping<12>(e, ad, Cd, v, f, K, C);
   });
   r += f;
   t->K += K;

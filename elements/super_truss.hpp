@@ -59,6 +59,7 @@ class SuperTrussElement final : public Element {
   int num_nodes() const { return map_.num_nodes(); }
   /// The lattice this element stands for (members in the order of member_axial_forces).
   const TrussGeometry& geometry() const { return geometry_; }
+  const TrussSectionSpec& spec() const { return spec_; }
   int num_members() const { return static_cast<int>(members_.size()); }
   /// Positions and orientations of the lattice nodes for end-section states (for tests, drawing
   /// and the comparison with the full model).
@@ -93,10 +94,16 @@ class SuperTrussElement final : public Element {
   struct Evaluation;
   struct MemberLoads;
   void evaluate(std::span<const SlotState<double>> s, const ElementContext& ctx, Vec12& r, ElementTangents* t) const;
-  /// The material's beta as Kelvin-Voigt damping of every member's co-rotated deformation, its
-  /// rates through the map (node poses by automatic differentiation in the 12 coordinates: exact,
-  /// but a damped super truss costs several times an undamped one).
+  /// The material's Rayleigh damping: beta as Kelvin-Voigt damping of every member's co-rotated
+  /// deformation, alpha times M(q) v as the derivative of alpha times the kinetic energy's
+  /// quadratic forms (kinetic_form_), the rates through the map (node poses by automatic
+  /// differentiation in the 12 coordinates: exact, but a damped super truss costs several times
+  /// an undamped one).
   void add_damping(std::span<const SlotState<double>> s, const ElementContext& ctx, Vec12& r, ElementTangents* t) const;
+  /// Hands each set of damped measures (as numbers of Seeds, seeded once) with its damping
+  /// matrix to add(e, Cd).
+  template <class Seeds, class Add>
+  void damping_measures(std::span<const SlotState<double>> s, Seeds& ad, Add&& add) const;
   /// The members of batches [first, last), four at a time: their forces on the nodes and, with
   /// tangent, their stiffness projected with the node Jacobians.
   void add_members(const Evaluation& kinematics, int first, int last, MemberLoads& out, bool tangent) const;
@@ -127,6 +134,10 @@ class SuperTrussElement final : public Element {
   std::vector<std::pair<AffinePoint, AffinePoint>> mass_points_;
   AffinePoint weight_point_;
   Mat3 end_rotary_[2] = {Mat3::Zero(), Mat3::Zero()};
+  /// The kinetic energy's quadratic forms (add_damping): over the 8 basis points' rates (24), and
+  /// over each internal node frame's columns (9), in map_.internal_nodes() order.
+  MatX kinetic_form_;
+  std::vector<MatX> internal_kinetic_form_;
 };
 
 }  // namespace latticedyn

@@ -90,9 +90,6 @@ void read_super_truss(ReaderContext& ctx, const InputNode& n, const std::string&
   else
     n.allow_only({"name", "type", "section", "position", "rotation", "rotation_deg", "axis_angle", "cardan_zyx_deg"});
   const TrussSectionSpec& spec = truss_section_of(ctx, n);
-  if (spec.material.damping.alpha != 0)
-    n["section"].fail("the truss section's material has mass-proportional damping (alpha), which super truss elements "
-                      "do not support yet (beta they do; a lattice body, every member a beam, takes both)");
   ReaderContext::TrussSectionParts& parts = truss_parts_of(ctx, n, spec);
   if (!parts.super_truss) parts.super_truss = std::make_shared<SuperTrussElement>(spec, *parts.geometry);
   const Vec3 position = n.get_vec3("position", Vec3::Zero());
