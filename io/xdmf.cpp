@@ -98,29 +98,34 @@ void XdmfDocument::format_step(const std::string& step, const std::string& time_
   Block* block = nullptr;  // everything below appends to this block's grids
 
   auto put = [&](const std::string& s) { block->grids += s; };
-  // A DataItem selecting this step's entry `at` of a (T, n) or (T, n, 3) dataset as a (1, n[, 3])
-  // array; `precision` is 4 for the drawing data stored in single precision, else 8.
-  // `first`: the first of the n rows selected (a single constraint's row) of the dataset's `rows`
-  // (n when empty), which the HDF item declares.
-  auto slab = [&](const char* dataset, const std::string& n, bool vector, const std::string& at,
-                  const char* precision = "8", const std::string& first = "0", const std::string& rows = "") {
-    put("            <DataItem ItemType=\"HyperSlab\" Type=\"HyperSlab\" Dimensions=\"1 " + n + (vector ? " 3" : "") +
-        "\">\n");
-    if (vector)
+  // A DataItem selecting this step's entry `at` of a (T, n) or (T, n, c) dataset as a (1, n[, c])
+  // array (columns c = 0 for the first); `precision` is 4 for the drawing data stored in single
+  // precision, else 8. `first`: the first of the n rows selected (a single constraint's row) of the
+  // dataset's `rows` (n when empty), which the HDF item declares.
+  auto slab_columns = [&](const char* dataset, const std::string& n, int columns, const std::string& at,
+                          const char* precision = "8", const std::string& first = "0", const std::string& rows = "") {
+    const std::string c = columns > 0 ? " " + std::to_string(columns) : "";
+    put("            <DataItem ItemType=\"HyperSlab\" Type=\"HyperSlab\" Dimensions=\"1 " + n + c + "\">\n");
+    if (columns > 0)
       put("              <DataItem Dimensions=\"3 3\" NumberType=\"Int\" Format=\"XML\">" + at + " " + first +
-          " 0 1 1 1 1 " + n + " 3</DataItem>\n");
+          " 0 1 1 1 1 " + n + c + "</DataItem>\n");
     else
       put("              <DataItem Dimensions=\"3 2\" NumberType=\"Int\" Format=\"XML\">" + at + " " + first +
           " 1 1 1 " + n + "</DataItem>\n");
     put("              <DataItem Dimensions=\"");
     block->gaps.push_back(block->grids.size());
-    put(" " + (rows.empty() ? n : rows) + (vector ? " 3" : "") + "\" NumberType=\"Float\" Precision=\"" + precision +
+    put(" " + (rows.empty() ? n : rows) + c + "\" NumberType=\"Float\" Precision=\"" + precision +
         "\" Format=\"HDF\">" + h5 + ":" + dataset + "</DataItem>\n");
     put("            </DataItem>\n");
   };
-  auto attribute = [&](const char* name, bool vector, bool cell, const std::function<void()>& data) {
-    put(std::string("          <Attribute Name=\"") + name + "\" AttributeType=\"" + (vector ? "Vector" : "Scalar") +
-        "\" Center=\"" + (cell ? "Cell" : "Node") + "\">\n");
+  auto slab = [&](const char* dataset, const std::string& n, bool vector, const std::string& at,
+                  const char* precision = "8", const std::string& first = "0", const std::string& rows = "") {
+    slab_columns(dataset, n, vector ? 3 : 0, at, precision, first, rows);
+  };
+  auto attribute = [&](const char* name, bool vector, bool cell, const std::function<void()>& data,
+                       const char* type = nullptr) {
+    put(std::string("          <Attribute Name=\"") + name + "\" AttributeType=\"" +
+        (type ? type : vector ? "Vector" : "Scalar") + "\" Center=\"" + (cell ? "Cell" : "Node") + "\">\n");
     data();
     put("          </Attribute>\n");
   };
@@ -187,6 +192,10 @@ void XdmfDocument::format_step(const std::string& step, const std::string& time_
                                         std::pair{"bending_moment [N m]", "/viz/bending_moment"},
                                         std::pair{"shear_force [N]", "/viz/shear_force"}, std::pair{"torque [N m]", "/viz/torque"}})
       attribute(name, false, true, [&] { slab(dataset, cells, false, step, "8", first_line, line_rows); });
+    // Every resultant of both ends, signed, as one 12-component array (N, Qy, Qz, T, My, Mz at end
+    // 1, then end 2): ParaView colours by any component.
+    attribute("section_forces [N, N m]", false, true,
+              [&] { slab_columns("/viz/section_forces", cells, 12, step, "8", first_line, line_rows); }, "Matrix");
     attribute("body", false, true, [&] { rows("/viz/body", false); });
     attribute("element", false, true, [&] { rows("/viz/element", false); });
     put("        </Grid>\n");

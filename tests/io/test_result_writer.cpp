@@ -266,13 +266,14 @@ void expect_xdmf_matches(const fs::path& xdmf, hid_t h5, const std::vector<doubl
   const std::map<std::string, std::vector<std::string>> attributes{
       {"members",
        {"displacement [m]", "axial_force [N]", "utilization", "von_mises [Pa]", "bending_moment [N m]",
-        "shear_force [N]", "torque [N m]", "body", "element"}},
+        "shear_force [N]", "torque [N m]", "section_forces [N, N m]", "body", "element"}},
       {"joints", {"velocity [m/s]", "axis_x", "axis_y", "axis_z", "body"}}};
   // HDF references per grid: lines, points, displacement (points now and at step 0), axial
-  // force, the five member stress arrays, body, element; joints: vertices, positions, then one
+  // force, the five member stress arrays, the section forces, body, element; joints: vertices,
+  // positions, then one
   // per attribute; a constraint: its position, force and moment (its vertex and index are inline
   // numbers).
-  const std::map<std::string, int> references_per_grid{{"members", 12}, {"joints", 7}};
+  const std::map<std::string, int> references_per_grid{{"members", 13}, {"joints", 7}};
   for (std::size_t b = 0; b < blocks.size(); ++b) {
     const std::string block = text.substr(starts[b], starts[b + 1] - starts[b]);
     SCOPED_TRACE(blocks[b]);
