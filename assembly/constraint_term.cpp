@@ -1,6 +1,12 @@
 // Constraints into the rank's residual rows and Jacobian blocks.
 #include "assembly/constraint_term.hpp"
 
+#include "core/rotation.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
 namespace latticedyn {
 
 namespace {
@@ -35,7 +41,7 @@ void ConstraintTerm::add_residual(const LocalState& s, const EvaluationPoint& at
       for (int j = 0; j < ce.rows; ++j) {
         double ga = 0.0;
         for (int k = 0; k < 4 && ce.blocks[k] >= 0; ++k) ga += ce.G.block<1, 3>(j, 3 * k).dot(s.state[ce.blocks[k]].acc);
-        r[mo + j] = ga + ce.gamma(j) + 2 * al * be * ce.g_dot(j) + al * al * ce.g(j);
+        r[mo + j] = how.constraint_scale * (ga + ce.gamma(j) + 2 * al * be * ce.g_dot(j) + al * al * ce.g(j));
       }
     } else {
       const ConstraintInputs inc = inputs(c, at.tc, s.state_c);
@@ -45,8 +51,51 @@ void ConstraintTerm::add_residual(const LocalState& s, const EvaluationPoint& at
   }
 }
 
+std::pair<Eigen::Matrix<double, Eigen::Dynamic, 3>, Eigen::Matrix<double, Eigen::Dynamic, 3>>
+ConstraintTerm::acceleration_row_derivatives(int c, double t, const LocalState& s, int block, int rows) const {
+  const SlotKind kind = model_.blocks[block].kind;
+  const int n = kind == SlotKind::scalar ? 1 : 3;
+  Eigen::Matrix<double, Eigen::Dynamic, 3> d_pose = Eigen::Matrix<double, Eigen::Dynamic, 3>::Zero(rows, 3);
+  Eigen::Matrix<double, Eigen::Dynamic, 3> d_vel = d_pose;
+  BlockState perturbed = s.state[block];
+  auto row_values = [&]() {
+    ConstraintInputs in = inputs(c, t, s.state);
+    in.block_state = [&](int b) -> const BlockState& { return b == block ? perturbed : s.state[b]; };
+    in.with_velocity_terms = true;
+    const ConstraintEval ce = evaluate_constraint(in);
+    Eigen::VectorXd r(rows);
+    for (int j = 0; j < rows; ++j) {
+      double ga = 0.0;
+      for (int k = 0; k < 4 && ce.blocks[k] >= 0; ++k)
+        ga += ce.G.block<1, 3>(j, 3 * k).dot(ce.blocks[k] == block ? perturbed.acc : s.state[ce.blocks[k]].acc);
+      r(j) = ga + ce.gamma(j);
+    }
+    return r;
+  };
+  const BlockState base = s.state[block];
+  for (int i = 0; i < n; ++i) {
+    const double hp = 1e-6 * std::max(1.0, kind == SlotKind::rotation ? 1.0 : std::abs(base.pos(i)));
+    Eigen::VectorXd plus, minus;
+    for (double sign : {1.0, -1.0}) {
+      perturbed = base;
+      if (kind == SlotKind::rotation) perturbed.rot = base.rot * rotation_matrix(Vec3(sign * hp * Vec3::Unit(i)));
+      else perturbed.pos(i) += sign * hp;
+      (sign > 0 ? plus : minus) = row_values();
+    }
+    d_pose.col(i) = (plus - minus) / (2 * hp);
+    const double hv = 1e-6 * std::max(1.0, std::abs(base.vel(i)));
+    for (double sign : {1.0, -1.0}) {
+      perturbed = base;
+      perturbed.vel(i) += sign * hv;
+      (sign > 0 ? plus : minus) = row_values();
+    }
+    d_vel.col(i) = (plus - minus) / (2 * hv);
+  }
+  return {d_pose, d_vel};
+}
+
 PetscErrorCode ConstraintTerm::add_jacobian(const LocalState& s, const EvaluationPoint& at, const EvaluationSettings& how,
-                                            const double* lambda, double cq, double ca, Mat J,
+                                            const double* lambda, double cq, double cv, Mat J,
                                             std::vector<Vec3>& y) const {
   PetscFunctionBeginUser;
   const Eigen::Matrix3d zero3 = Eigen::Matrix3d::Zero();
@@ -82,9 +131,21 @@ PetscErrorCode ConstraintTerm::add_jacobian(const LocalState& s, const Evaluatio
     // Constraint rows.
     RowMajor grow;
     if (how.rows == ConstraintRows::acceleration) {
+      // d(G acc)/d(U, V, A) through the block's chain map (col_M = cq Q + cv S + ca T): in velocity
+      // variables with cq = cv = 0 just ca G (the Baumgarte route's [M G^T; G 0]); in rotation-vector
+      // rates the implicit Runge-Kutta route's rows. The derivatives of G and Gamma themselves are
+      // left out: next to ca ~ 1/h^2 they are O(h^2) and only slow Newton's last digits.
+      const bool rates_too = cq != 0.0 || cv != 0.0;
       for (int kj = 0; kj < nblk; ++kj) {
         const int bj = ce.blocks[kj];
-        grow = ca * ce.G.block(0, 3 * kj, m, 3);
+        Eigen::Matrix<double, Eigen::Dynamic, 3> block = ce.G.block(0, 3 * kj, m, 3) * s.chain[bj].col_M;
+        if (rates_too) {
+          // The row's dependence on the block's pose and velocity (G's and Gamma's): central
+          // differences of the closed-form rows, a rotation perturbed on the right.
+          const auto [d_pose, d_vel] = acceleration_row_derivatives(c, at.t, s, bj, m);
+          block += cq * d_pose * s.chain[bj].col_K + d_vel * s.chain[bj].col_C;
+        }
+        grow = how.constraint_scale * block;
         PetscInt cj = dofs_.block_dof(bj);
         PetscInt cols[3] = {cj, cj + 1, cj + 2};
         PetscCall(MatSetValues(J, m, mult.data(), 3, cols, grow.data(), ADD_VALUES));

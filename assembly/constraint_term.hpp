@@ -3,6 +3,8 @@
 // acceleration level), with the Jacobian of both (geometric stiffness d(G^T lambda)/dq included).
 #pragma once
 
+#include <utility>
+
 #include "assembly/constraint_evaluator.hpp"
 #include "assembly/dof_map.hpp"
 #include "assembly/evaluation_settings.hpp"
@@ -20,14 +22,20 @@ class ConstraintTerm {
   /// the constraint rows' state (LocalState::state_c) differs from the force balance's.
   void add_residual(const LocalState& s, const EvaluationPoint& at, const EvaluationSettings& how, const double* lambda,
                     bool distinct_c, double* r) const;
-  /// Their Jacobian for J = cq dR/dU + ca dR/dA (cv: no velocity terms); y takes G^T lambda per
+  /// Their Jacobian for J = cq dR/dU + cv dR/dV + ca dR/dA (the chain maps carry cv and ca); y takes G^T lambda per
   /// rotation block, for the derivative of T^T. Throws what the constraints throw.
   PetscErrorCode add_jacobian(const LocalState& s, const EvaluationPoint& at, const EvaluationSettings& how,
-                              const double* lambda, double cq, double ca, Mat J, std::vector<Vec3>& y) const;
+                              const double* lambda, double cq, double cv, Mat J, std::vector<Vec3>& y) const;
 
  private:
   /// The evaluation inputs of constraint c at time t in `states` (the one setup both share).
   ConstraintInputs inputs(int c, double t, const std::vector<BlockState>& states) const;
+  /// d(G acc + Gamma)/d(pose) and /d(velocity) of constraint c's acceleration-level rows with
+  /// respect to one of its blocks (rotations perturbed on the right, body omega), by central
+  /// differences of the closed-form rows: the implicit Runge-Kutta route's Newton matrix, where
+  /// the velocity terms enter with the shift (the Baumgarte route needs only G).
+  std::pair<Eigen::Matrix<double, Eigen::Dynamic, 3>, Eigen::Matrix<double, Eigen::Dynamic, 3>>
+  acceleration_row_derivatives(int c, double t, const LocalState& s, int block, int rows) const;
 
   const Model& model_;
   const DofMap& dofs_;

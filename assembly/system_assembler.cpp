@@ -336,7 +336,7 @@ PetscErrorCode SystemAssembler::jacobian(const EvaluationPoint& at, const Evalua
   PetscCall(PetscLogEventBegin(events.constraints, 0, 0, 0, 0));
   try {  // a failure marks the Jacobian unusable (evaluation_error), as an element's does
     PetscCall(loads_.add_jacobian(local_, at.t, how.load_scale, cq, J, y));
-    PetscCall(constraints_.add_jacobian(local_, at, how, uc, cq, ca, J, y));
+    PetscCall(constraints_.add_jacobian(local_, at, how, uc, cq, cv, J, y));
   } catch (...) {
     errors_.record_current_exception("loads and constraints");
   }
@@ -431,6 +431,16 @@ PetscErrorCode SystemAssembler::velocities_to_rates(Vec U, Vec V) const {
   return map_rotation_rates(model_, dofs_, U, V, [](const Vec3& phi, const Vec3& w) { return Vec3(tangent_operator_inverse(phi) * w); });
 }
 
+ConstraintInputs SystemAssembler::local_constraint_inputs(int c, double t) const {
+  const Constraint& con = model_.constraints[c];
+  ConstraintInputs in;
+  in.model = &model_;
+  in.constraint = &con;
+  in.block_state = [this](int b) -> const BlockState& { return local_.state[b]; };
+  in.drive = con.drive >= 0 ? model_.drives[con.drive].evaluate(t) : DriveValue{};
+  return in;
+}
+
 PetscErrorCode SystemAssembler::max_constraint_violation(Vec U, double t, double* value, int* constraint) {
   PetscFunctionBeginUser;
   PetscCall(scatter_in(EvaluationPoint{U, nullptr, nullptr, nullptr, t, t}));
@@ -440,21 +450,38 @@ PetscErrorCode SystemAssembler::max_constraint_violation(Vec U, double t, double
     double value;
     int index;
   } local{-1.0, -1}, global{-1.0, -1};
-  auto state_of = [this](int b) -> const BlockState& { return local_.state[b]; };
   for (int c : dofs_.local_constraints()) {
-    const Constraint& con = model_.constraints[c];
-    ConstraintInputs in;
-    in.model = &model_;
-    in.constraint = &con;
-    in.block_state = state_of;
-    in.drive = con.drive >= 0 ? model_.drives[con.drive].evaluate(t) : DriveValue{};
-    const ConstraintEval ce = evaluate_constraint(in);
+    const ConstraintEval ce = evaluate_constraint(local_constraint_inputs(c, t));
     const double v = ce.g.head(ce.rows).cwiseAbs().maxCoeff();
     if (v > local.value) local = {v, c};
   }
   PetscCallMPI(MPI_Allreduce(&local, &global, 1, MPI_DOUBLE_INT, MPI_MAXLOC, comm_));
   *value = std::max(global.value, 0.0);
   *constraint = global.index;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SystemAssembler::constraint_values(Vec U, Vec V, double t, bool rates, Vec out) {
+  PetscFunctionBeginUser;
+  PetscCall(scatter_in(EvaluationPoint{U, rates ? V : nullptr, nullptr, nullptr, t, t}));
+  EvaluationSettings how;
+  how.param = Parametrization::rotation_vector_rates;
+  PetscCall(compute_states(how, false, 1.0, 0.0, 0.0));
+  PetscCall(VecZeroEntries(out));
+  std::vector<PetscInt> rows;
+  std::vector<PetscScalar> values;
+  for (int c : dofs_.local_constraints()) {
+    ConstraintInputs in = local_constraint_inputs(c, t);
+    in.with_velocity_terms = rates;
+    const ConstraintEval ce = evaluate_constraint(in);
+    for (int j = 0; j < ce.rows; ++j) {
+      rows.push_back(dofs_.multiplier_dof(c) + j);
+      values.push_back(rates ? ce.g_dot(j) : ce.g(j));
+    }
+  }
+  PetscCall(VecSetValues(out, static_cast<PetscInt>(rows.size()), rows.data(), values.data(), INSERT_VALUES));
+  PetscCall(VecAssemblyBegin(out));
+  PetscCall(VecAssemblyEnd(out));
   PetscFunctionReturn(0);
 }
 

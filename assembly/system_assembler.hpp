@@ -72,6 +72,11 @@ class SystemAssembler {
   /// (-1 without constraints). Collective; every rank gets the result.
   PetscErrorCode max_constraint_violation(Vec U, double t, double* value, int* constraint);
 
+  /// Constraint values at (U, V, t) into `out`'s multiplier rows, zero on every other row: g, or
+  /// with `rates` g_dot = G v + g_t (V in rotation-vector rates). For projecting a state onto the
+  /// constraint manifold (implicit Runge-Kutta route). Collective.
+  PetscErrorCode constraint_values(Vec U, Vec V, double t, bool rates, Vec out);
+
   /// Gathers the state to rank 0 and loads it into `state` there (other ranks: untouched).
   PetscErrorCode gather(double t, Vec U, Vec V, Vec A, Parametrization param, ModelState* state);
   /// Gathers X (a vector of the system's layout) to rank 0 in model order (DofMap::to_model_order),
@@ -97,6 +102,8 @@ class SystemAssembler {
 
  private:
   PetscErrorCode scatter_in(const EvaluationPoint& at);
+  /// Constraint c's inputs at time t on the block states of the last compute_states.
+  ConstraintInputs local_constraint_inputs(int c, double t) const;
   PetscErrorCode compute_states(const EvaluationSettings& how, bool with_chain, double cq, double cv, double ca);
   void estimate_scales();
 

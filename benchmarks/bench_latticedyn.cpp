@@ -37,7 +37,7 @@ TrussSectionSpec type2_section() {
 }
 
 std::unique_ptr<Element> make(int kind) {
-  const Material steel{7800, 2.06e11, 0.3};
+  const Material steel{7800, 2.06e11, 0.3, {}, 0.0};
   if (kind == kRigidBody) {
     RigidBodyProperties p;
     p.mass = 10;

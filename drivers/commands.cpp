@@ -390,8 +390,11 @@ int command_check(const Simulation& sim, MPI_Comm comm) {
   if (sim.run_static) text += "solver: static equilibrium first\n";
   if (sim.run_dynamics) {
     char buf[256];
-    std::snprintf(buf, sizeof buf, "solver: %s from t = %g to %g s, time step %g\n",
-                  sim.dynamics.integrator == IntegratorKind::baumgarte ? "Baumgarte / Runge-Kutta" : "generalized-alpha",
+    const std::string method = sim.dynamics.integrator == IntegratorKind::baumgarte     ? "Baumgarte / Runge-Kutta"
+                               : sim.dynamics.integrator == IntegratorKind::implicit_rk ? "implicit Runge-Kutta (" +
+                                                                                               sim.dynamics.implicit_method + ")"
+                                                                                         : "generalized-alpha";
+    std::snprintf(buf, sizeof buf, "solver: %s from t = %g to %g s, time step %g\n", method.c_str(),
                   sim.dynamics.t_start, sim.dynamics.t_end, sim.dynamics.time_step);
     text += buf;
   }

@@ -2,6 +2,7 @@
 #include "drivers/simulation.hpp"
 
 #include "timestepping/baumgarte.hpp"
+#include "timestepping/implicit_runge_kutta.hpp"
 #include "timestepping/generalized_alpha.hpp"
 #include "timestepping/static_solver.hpp"
 
@@ -26,7 +27,15 @@ void set_state_in_model_order(const DofMap& dofs, Vec U, const std::vector<doubl
 }
 
 const char* integrator_name(IntegratorKind kind) {
-  return kind == IntegratorKind::baumgarte ? "baumgarte" : "generalized_alpha";
+  switch (kind) {
+    case IntegratorKind::baumgarte:
+      return "baumgarte";
+    case IntegratorKind::implicit_rk:
+      return "implicit_rk";
+    case IntegratorKind::generalized_alpha:
+      break;
+  }
+  return "generalized_alpha";
 }
 
 PetscErrorCode simulate(Simulation& sim, SystemAssembler& sa, Vec U, Vec V, bool statics, bool dynamics,
@@ -47,6 +56,9 @@ PetscErrorCode simulate(Simulation& sim, SystemAssembler& sa, Vec U, Vec V, bool
     outcome->dynamics_run = true;
     if (sim.dynamics.integrator == IntegratorKind::baumgarte) {
       BaumgarteIntegrator integrator(sa, sim.dynamics);
+      PetscCall(integrator.run(U, V, observer, &outcome->dynamics, resume));
+    } else if (sim.dynamics.integrator == IntegratorKind::implicit_rk) {
+      ImplicitRungeKuttaIntegrator integrator(sa, sim.dynamics);
       PetscCall(integrator.run(U, V, observer, &outcome->dynamics, resume));
     } else {
       GeneralizedAlphaIntegrator integrator(sa, sim.dynamics);

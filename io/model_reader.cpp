@@ -167,12 +167,15 @@ void read_solver(const InputNode& n, Simulation& sim) {
   }
   if (auto d = n.get("dynamics")) {
     d->allow_only({"integrator", "t_start", "t_end", "time_step", "rho_infinity", "adaptive", "rtol", "atol", "max_steps",
-                   "baumgarte_alpha", "baumgarte_beta", "rk_type", "jacobian_reuse", "newton_tolerance"});
+                   "baumgarte_alpha", "baumgarte_beta", "rk_type", "implicit_method", "jacobian_reuse", "newton_tolerance"});
     sim.run_dynamics = true;
     DynamicSettings& dy = sim.dynamics;
-    if (auto k = d->get("integrator"))
-      dy.integrator = k->as_choice({"generalized_alpha", "baumgarte"}) == "baumgarte" ? IntegratorKind::baumgarte
-                                                                                      : IntegratorKind::generalized_alpha;
+    if (auto k = d->get("integrator")) {
+      const std::string kind = k->as_choice({"generalized_alpha", "baumgarte", "implicit_rk"});
+      dy.integrator = kind == "baumgarte"     ? IntegratorKind::baumgarte
+                      : kind == "implicit_rk" ? IntegratorKind::implicit_rk
+                                              : IntegratorKind::generalized_alpha;
+    }
     dy.t_start = d->get_double("t_start", 0.0);
     const InputNode t_end = (*d)["t_end"];
     dy.t_end = t_end.as_double();
@@ -201,6 +204,11 @@ void read_solver(const InputNode& n, Simulation& sim) {
     dy.baumgarte_beta = d->get_non_negative("baumgarte_beta", dy.baumgarte_beta);
     if (auto k = d->get("rk_type"))  // PETSc's TSRK schemes
       dy.rk_type = k->as_choice({"1fe", "2a", "2b", "3", "3bs", "4", "5f", "5dp", "5bs", "6vr", "7vr", "8vr"});
+    // PETSc's fully implicit ARK (ESDIRK) and Rosenbrock schemes that are stiffly accurate, so
+    // that the algebraic rows hold at the step's end (the others lose order on a DAE).
+    if (auto k = d->get("implicit_method"))
+      dy.implicit_method =
+          k->as_choice({"arkimex:l2", "arkimex:3", "arkimex:4", "arkimex:5", "rosw:ra34pw2", "rosw:rodas3"});
   }
 }
 

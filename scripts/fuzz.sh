@@ -26,6 +26,8 @@ done
 
 cmake -S . -B "$build_dir" -DCMAKE_C_COMPILER=clang-14 -DCMAKE_CXX_COMPILER=clang++-14 \
       -DCMAKE_BUILD_TYPE=RelWithDebInfo -DLATTICEDYN_FUZZ=ON \
+      -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O2 -gline-tables-only -gz -DNDEBUG" \
+      -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -gline-tables-only -gz -DNDEBUG" \
       -DLATTICEDYN_BUILD_TESTS=OFF -DLATTICEDYN_BUILD_BENCHMARKS=OFF >/dev/null
 cmake --build "$build_dir" -j "$jobs" --target model_reader_fuzzer
 fuzzer=$build_dir/model_reader_fuzzer

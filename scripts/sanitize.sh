@@ -6,7 +6,12 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 build_dir=${LATTICEDYN_ASAN_DIR:-build-asan}
 jobs=${LATTICEDYN_JOBS:-$(nproc)}
+# Line tables only (-g1), compressed (-gz): the sanitizers' reports still name file and line, and
+# the build takes a fraction of the disk full debug information needs (every test program links
+# the static layers; full -g filled a CI machine's disk).
+debug_flags="-O2 -g1 -gz -DNDEBUG"
 cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DLATTICEDYN_SANITIZE=address,undefined \
+      -DCMAKE_C_FLAGS_RELWITHDEBINFO="$debug_flags" -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="$debug_flags" \
       -DLATTICEDYN_BUILD_BENCHMARKS=OFF >/dev/null
 # gtest_discover_tests runs the test programs while building: the options apply there too.
 export ASAN_OPTIONS=detect_leaks=0:abort_on_error=1:strict_string_checks=1

@@ -414,38 +414,7 @@ PetscErrorCode GeneralizedAlphaIntegrator::solve(Vec U, Vec V, DynamicReport* re
   report->wall_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   report->jacobians = jacobians_;
 
-  TSConvergedReason reason;
-  PetscCall(TSGetConvergedReason(ts_, &reason));
-  PetscReal t;
-  PetscCall(TSGetTime(ts_, &t));
-  report->time_reached = t;
-  report->completed = reason > 0 && !report->interrupted;
-  char buf[768];
-  if (report->completed) {
-    std::snprintf(buf, sizeof buf, "reached t = %.6g s", t);
-  } else if (report->interrupted) {
-    std::snprintf(buf, sizeof buf, "dynamics interrupted at t = %.6g s after step %ld", t, report->steps);
-  } else {
-    SNES snes;
-    SNESConvergedReason sr;
-    PetscReal fnorm;
-    PetscInt its;
-    PetscCall(TSGetSNES(ts_, &snes));
-    PetscCall(SNESGetConvergedReason(snes, &sr));
-    PetscCall(SNESGetFunctionNorm(snes, &fnorm));
-    PetscCall(SNESGetIterationNumber(snes, &its));
-    double violation;
-    int where;
-    PetscCall(sa_.max_constraint_violation(U, t, &violation, &where));
-    std::snprintf(buf, sizeof buf,
-                  "dynamics stopped at t = %.6g s (step %ld): TS %s; the last Newton solve ended %s after %d "
-                  "iterations with residual %.3g; largest violation: %s",
-                  t, report->steps, TSConvergedReasons[reason], SNESConvergedReasons[sr], static_cast<int>(its), fnorm,
-                  describe_violation(sa_.model(), violation, where).c_str());
-  }
-  report->message = buf;
-  if (!report->completed && !domain_error_.empty())
-    report->message += "; " + domain_error_;
+  PetscCall(describe_ending(sa_, ts_, U, "", domain_error_, report));
   PetscInt krylov = 0, solves = 0;
   PetscCall(TSGetKSPIterations(ts_, &krylov));
   PetscCall(TSGetSNESIterations(ts_, &solves));

@@ -169,6 +169,44 @@ PetscErrorCode set_roundoff_convergence_test(SNES snes, double reference_force, 
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode describe_ending(SystemAssembler& sa, TS ts, Vec U, const std::string& method,
+                               const std::string& domain_error, DynamicReport* report) {
+  PetscFunctionBeginUser;
+  TSConvergedReason reason;
+  PetscCall(TSGetConvergedReason(ts, &reason));
+  PetscReal t;
+  PetscCall(TSGetTime(ts, &t));
+  report->time_reached = t;
+  report->completed = reason > 0 && !report->interrupted;
+  char buf[768];
+  if (report->completed) {
+    std::snprintf(buf, sizeof buf, "reached t = %.6g s", t);
+  } else if (report->interrupted) {
+    std::snprintf(buf, sizeof buf, "dynamics interrupted at t = %.6g s after step %ld", t, report->steps);
+  } else {
+    SNES snes;
+    SNESConvergedReason sr;
+    PetscReal fnorm;
+    PetscInt its;
+    PetscCall(TSGetSNES(ts, &snes));
+    PetscCall(SNESGetConvergedReason(snes, &sr));
+    PetscCall(SNESGetFunctionNorm(snes, &fnorm));
+    PetscCall(SNESGetIterationNumber(snes, &its));
+    double violation;
+    int where;
+    PetscCall(sa.max_constraint_violation(U, t, &violation, &where));
+    const std::string step = method.empty() ? "" : ", " + method;
+    std::snprintf(buf, sizeof buf,
+                  "dynamics stopped at t = %.6g s (step %ld%s): TS %s; the last Newton solve ended %s after %d "
+                  "iterations with residual %.3g; largest violation: %s",
+                  t, report->steps, step.c_str(), TSConvergedReasons[reason], SNESConvergedReasons[sr],
+                  static_cast<int>(its), fnorm, describe_violation(sa.model(), violation, where).c_str());
+  }
+  report->message = buf;
+  if (!report->completed && !domain_error.empty()) report->message += "; " + domain_error;
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode record_step(SystemAssembler& sa, const StepInfo& info, DynamicReport* r, StepObserver* observer) {
   double violation;
   int where;

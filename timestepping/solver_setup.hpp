@@ -6,6 +6,7 @@
 #include "timestepping/dynamic_settings.hpp"
 
 #include <petscsnes.h>
+#include <petscts.h>
 
 #include <string>
 
@@ -95,6 +96,13 @@ class CheckpointSchedule {
 /// constraint violation so far), hands the step to the observer (if any) and marks the report
 /// interrupted when the observer asks to stop. Collective.
 PetscErrorCode record_step(SystemAssembler& sa, const StepInfo& info, DynamicReport* report, StepObserver* observer);
+
+/// After TSSolve of a Newton-based integrator: the report's time reached, whether it completed,
+/// and its message: "reached t = ...", interrupted, or what failed (TS and Newton reasons, the
+/// last residual, the largest constraint violation at U, the element outside its domain).
+/// `method` (may be empty) is named beside the step of a failure. Collective.
+PetscErrorCode describe_ending(SystemAssembler& sa, TS ts, Vec U, const std::string& method,
+                               const std::string& domain_error, DynamicReport* report);
 
 /// The report's counters from where a continued run resumes (ResumePoint), or zero.
 void start_report(const ResumePoint* resume, DynamicReport* report);

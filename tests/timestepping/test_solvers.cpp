@@ -3,6 +3,7 @@
 // energy conservation of a free tumbling body, and rotation-vector rescaling on a fast spin.
 #include "timestepping/baumgarte.hpp"
 #include "timestepping/generalized_alpha.hpp"
+#include "timestepping/implicit_runge_kutta.hpp"
 #include "timestepping/static_solver.hpp"
 
 #include "../assembly/sample_models.hpp"
@@ -141,6 +142,7 @@ void expect_pendulum_period(double tol) {
 
 TEST(GeneralizedAlpha, PhysicalPendulumPeriod) { expect_pendulum_period<GeneralizedAlphaIntegrator>(1e-4); }
 TEST(Baumgarte, PhysicalPendulumPeriod) { expect_pendulum_period<BaumgarteIntegrator>(1e-4); }
+TEST(ImplicitRungeKutta, PhysicalPendulumPeriod) { expect_pendulum_period<ImplicitRungeKuttaIntegrator>(1e-4); }
 
 // A free body spinning fast about a tilted axis (12 rad/s about z, some about x and y).
 Model spinner() {
