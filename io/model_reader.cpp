@@ -186,6 +186,11 @@ void read_solver(const InputNode& n, Simulation& sim) {
       if (dy.rho_infinity < 0 || dy.rho_infinity > 1) k->fail("rho_infinity must lie in [0, 1]");
     }
     dy.adaptive = d->get_bool("adaptive", false);
+    // Undamped index-3 generalized-alpha lets the accelerations and multipliers oscillate at the
+    // step's frequency: its error estimate then never falls and adaptive steps shrink to nothing.
+    if (dy.adaptive && dy.integrator == IntegratorKind::generalized_alpha && dy.rho_infinity >= 1.0)
+      (*d)["adaptive"].fail("adaptive generalized-alpha needs rho_infinity below 1 (e.g. 0.9): with 1 the constraint "
+                            "forces oscillate undamped and the error estimate never falls");
     dy.rtol = d->get_positive("rtol", dy.rtol);
     dy.atol = d->get_positive("atol", dy.atol);
     if (auto k = d->get("max_steps")) {

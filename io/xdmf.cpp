@@ -188,10 +188,13 @@ void XdmfDocument::format_step(const std::string& step, const std::string& time_
     });
     attribute("axial_force [N]", false, true, [&] { slab("/viz/axial_force", cells, false, step, "8", first_line, line_rows); });
     // The members' stresses and largest resultants: colour by utilization to see the worst.
-    for (const auto& [name, dataset] : {std::pair{"utilization", "/viz/utilization"}, std::pair{"von_mises [Pa]", "/viz/von_mises"},
-                                        std::pair{"bending_moment [N m]", "/viz/bending_moment"},
-                                        std::pair{"shear_force [N]", "/viz/shear_force"}, std::pair{"torque [N m]", "/viz/torque"}})
-      attribute(name, false, true, [&] { slab(dataset, cells, false, step, "8", first_line, line_rows); });
+    for (const auto& member_array : {std::pair{"utilization", "/viz/utilization"}, std::pair{"von_mises [Pa]", "/viz/von_mises"},
+                                     std::pair{"bending_moment [N m]", "/viz/bending_moment"},
+                                     std::pair{"shear_force [N]", "/viz/shear_force"}, std::pair{"torque [N m]", "/viz/torque"}}) {
+      // Not a structured binding: lambdas may not capture those before Clang 16.
+      const char* dataset = member_array.second;
+      attribute(member_array.first, false, true, [&] { slab(dataset, cells, false, step, "8", first_line, line_rows); });
+    }
     // Every resultant of both ends, signed, as one 12-component array (N, Qy, Qz, T, My, Mz at end
     // 1, then end 2): ParaView colours by any component.
     attribute("section_forces [N, N m]", false, true,

@@ -86,6 +86,14 @@ TEST_F(Restart, TheBaumgarteRouteContinuesBitForBit) {
   expect_bit_for_bit(*this, "dpb", "0.6", 500, "");
 }
 
+// The implicit Runge-Kutta route restarts its method at every checkpoint (ARKIMEX's short start
+// step, then one step of 1e-4 h and one back onto the grid), in the run that writes the
+// checkpoint as in the one continued from it: the checkpoint at 0.5 s is step 100 + 2.
+TEST_F(Restart, TheImplicitRungeKuttaRouteContinuesBitForBit) {
+  write_pair(*this, "dpi", DOUBLE_PENDULUM_IMPLICIT_RK, 0.25);
+  expect_bit_for_bit(*this, "dpi", "0.6", 102, "");
+}
+
 // SIGINT: the run stops after a step with a checkpoint there, which continues the run to its end.
 TEST_F(Restart, AnInterruptedRunContinuesFromItsCheckpoint) {
   write("long.yaml", "base: " + std::string(DOUBLE_PENDULUM_BAUMGARTE) +

@@ -162,6 +162,11 @@ INSTANTIATE_TEST_SUITE_P(
                  "constraints[2]", "apart"},
         BadInput{"unknown_rk_scheme", "rho_infinity: 0.8}", "rho_infinity: 0.8, rk_type: rk99}", 0,
                  "solver.dynamics.rk_type", "not one of"},
+        BadInput{"unknown_implicit_method", "rho_infinity: 0.8}",
+                 "rho_infinity: 0.8, integrator: implicit_rk, implicit_method: \"bdf:2\"}", 0,
+                 "solver.dynamics.implicit_method", "not one of"},
+        BadInput{"adaptive_undamped_alpha", "rho_infinity: 0.8}", "rho_infinity: 1.0, adaptive: true}", 0,
+                 "solver.dynamics.adaptive", "rho_infinity below 1"},
         BadInput{"loose_newton_tolerance", "rho_infinity: 0.8}", "rho_infinity: 0.8, newton_tolerance: 0.1}", 0,
                  "solver.dynamics.newton_tolerance", "below 1e-2"},
         BadInput{"duplicate_constraint_name", "{name: hook,", "{name: hinge,", 0, "constraints[1].name",
@@ -243,6 +248,16 @@ TEST_F(BaseFiles, CyclesAndMissingBasesAreInputErrors) {
     EXPECT_NE(std::string(e.what()).find("c.yaml:1:"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("nowhere.yaml"), std::string::npos) << e.what();
   }
+}
+
+TEST(ModelReader, ReadsTheImplicitRungeKuttaRoute) {
+  std::string text = kValid;
+  const std::string at = "rho_infinity: 0.8}";
+  ASSERT_NE(text.find(at), std::string::npos);
+  text.replace(text.find(at), at.size(), "rho_infinity: 0.8, integrator: implicit_rk, implicit_method: \"rosw:rodas3\"}");
+  const Simulation sim = read_simulation_from_string(text, "model.yaml");
+  EXPECT_EQ(sim.dynamics.integrator, IntegratorKind::implicit_rk);
+  EXPECT_EQ(sim.dynamics.implicit_method, "rosw:rodas3");
 }
 
 TEST(ModelReader, MissingFileIsAnInputError) {

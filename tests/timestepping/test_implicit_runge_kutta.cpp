@@ -1,7 +1,7 @@
 // The implicit Runge-Kutta route on a double pendulum (two rods on revolute joints, released from
 // the horizontal): each method reaches its order of convergence against a fine reference, the
 // projection keeps the joints closed to round-off, the energy of the undamped motion holds, and
-// adaptive steps meet tighter tolerances with smaller errors.
+// adaptive steps follow their tolerances on both routes.
 #include "timestepping/generalized_alpha.hpp"
 #include "timestepping/implicit_runge_kutta.hpp"
 
@@ -196,9 +196,7 @@ TEST(ImplicitRungeKutta, ConstraintsAndEnergyOverFiveSeconds) {
 }
 
 // Adaptive steps on the embedded error estimate (multipliers left out): a tolerance 100 times
-// tighter gives an error at least 10 times smaller, with more steps. (Generalized-alpha's
-// adaptive steps collapse on this pendulum at tolerances of 1e-5 and below, near t = 0.5 s: not
-// yet tested here until that is found.)
+// tighter gives an error at least 10 times smaller, with more steps.
 template <class Integrator>
 void expect_tolerance_control(DynamicSettings s, double tight_tolerance) {
   const DoublePendulum dp = double_pendulum();
@@ -222,6 +220,36 @@ void expect_tolerance_control(DynamicSettings s, double tight_tolerance) {
 
 TEST(ImplicitRungeKutta, AdaptiveStepsFollowTheTolerance) {
   expect_tolerance_control<ImplicitRungeKuttaIntegrator>(settings("arkimex:3", 0.01), 1e-6);
+}
+
+// Generalized-alpha's adaptive steps (TSALPHA2's error estimate, multipliers left out, rho_inf
+// 0.9): the step follows the tolerance, about as tol^(1/2) for a second-order estimate (100
+// times tighter: 10 times the steps), and the joints stay closed. Its accuracy does not follow
+// the tolerance as closely: a step size that changes every step costs the method its second
+// order (the acceleration-like variable lags), so the error at t = 1 s stays near 2e-5 m from
+// tolerances of 1e-4 to 1e-6 (docs/theory.md). With rho_inf = 1 the index-3 accelerations
+// oscillate undamped and the estimate never falls: the model reader refuses that pairing.
+TEST(GeneralizedAlpha, AdaptiveStepsFollowTheTolerance) {
+  const DoublePendulum dp = double_pendulum();
+  const Vec3 ref = reference_tip(dp);
+  DynamicSettings s = settings("", 0.01);
+  s.integrator = IntegratorKind::generalized_alpha;
+  s.rho_infinity = 0.9;
+  s.adaptive = true;
+  s.rtol = s.atol = 1e-4;
+  const Outcome loose = simulate<GeneralizedAlphaIntegrator>(dp, s);
+  s.rtol = s.atol = 1e-6;
+  const Outcome tight = simulate<GeneralizedAlphaIntegrator>(dp, s);
+  ASSERT_TRUE(loose.report.completed) << loose.report.message;
+  ASSERT_TRUE(tight.report.completed) << tight.report.message;
+  EXPECT_GT(tight.report.steps, 5 * loose.report.steps);
+  EXPECT_LT(tight.report.steps, 20 * loose.report.steps);
+  EXPECT_LT(tight.report.max_violation, 1e-9);
+  int rank;
+  MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
+  if (rank != 0) return;
+  EXPECT_LT((loose.tip - ref).norm(), 1e-4);
+  EXPECT_LT((tight.tip - ref).norm(), 1e-4);
 }
 
 // A method the route does not have is refused by name.
