@@ -201,6 +201,18 @@ PetscErrorCode ImplicitRungeKuttaIntegrator::zero_multipliers(Vec v) const {
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode ImplicitRungeKuttaIntegrator::copy_multipliers(Vec from, Vec to) const {
+  PetscScalar* t;
+  const PetscScalar* f;
+  PetscFunctionBeginUser;
+  PetscCall(VecGetArray(to, &t));
+  PetscCall(VecGetArrayRead(from, &f));
+  for (PetscInt i : multipliers_) t[i] = f[i];
+  PetscCall(VecRestoreArray(to, &t));
+  PetscCall(VecRestoreArrayRead(from, &f));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode ImplicitRungeKuttaIntegrator::ifunction(TS ts, PetscReal t, Vec X, Vec Xdot, Vec F, void* ctx) {
   auto* self = static_cast<ImplicitRungeKuttaIntegrator*>(ctx);
   Vec U, V, Ud, Vd, F1, F2;
@@ -214,15 +226,7 @@ PetscErrorCode ImplicitRungeKuttaIntegrator::ifunction(TS ts, PetscReal t, Vec X
   PetscCall(self->sa_.residual(EvaluationPoint{U, V, Vd, nullptr, t, t}, how, F2, &finite));
   // Kinematic rows U_dot - V; on the multiplier rows the unused slots of V are held at zero.
   PetscCall(VecWAXPY(F1, -1.0, V, Ud));
-  {
-    PetscScalar* f;
-    const PetscScalar* v;
-    PetscCall(VecGetArray(F1, &f));
-    PetscCall(VecGetArrayRead(V, &v));
-    for (PetscInt i : self->multipliers_) f[i] = v[i];
-    PetscCall(VecRestoreArray(F1, &f));
-    PetscCall(VecRestoreArrayRead(V, &v));
-  }
+  PetscCall(self->copy_multipliers(V, F1));
   PetscCall(self->unsplit(F, &F1, &F2));
   PetscCall(self->unsplit(Xdot, &Ud, &Vd));
   PetscCall(self->unsplit(X, &U, &V));
@@ -316,15 +320,7 @@ PetscErrorCode ImplicitRungeKuttaIntegrator::shell_apply(PC pc, Vec b, Vec y) {
   PetscCall(KSPGetConvergedReason(self->inner_, &reason));
   if (reason < 0) PetscCall(PCSetFailedReason(pc, PC_FACTOR_OTHER));
   PetscCall(VecAXPBYPCZ(y2, self->sigma_, -1.0, 0.0, y1, self->w_));
-  {
-    PetscScalar* yv;
-    const PetscScalar* bv;
-    PetscCall(VecGetArray(y2, &yv));
-    PetscCall(VecGetArrayRead(b1, &bv));
-    for (PetscInt i : self->multipliers_) yv[i] = bv[i];
-    PetscCall(VecRestoreArray(y2, &yv));
-    PetscCall(VecRestoreArrayRead(b1, &bv));
-  }
+  PetscCall(self->copy_multipliers(b1, y2));
   PetscCall(self->unsplit(y, &y1, &y2));
   PetscCall(self->unsplit(b, &b1, &b2));
   PetscFunctionReturn(0);
@@ -342,15 +338,7 @@ PetscErrorCode ImplicitRungeKuttaIntegrator::shell_mult(Mat A, Vec x, Vec y) {
   PetscCall(VecAXPBYPCZ(y1, self->sigma_, -1.0, 0.0, x1, x2));
   PetscCall(VecWAXPY(self->w_, -self->sigma_, x1, x2));
   PetscCall(self->zero_multipliers(self->w_));
-  {
-    PetscScalar* yv;
-    const PetscScalar* xv;
-    PetscCall(VecGetArray(y1, &yv));
-    PetscCall(VecGetArrayRead(x2, &xv));
-    for (PetscInt i : self->multipliers_) yv[i] = xv[i];
-    PetscCall(VecRestoreArray(y1, &yv));
-    PetscCall(VecRestoreArrayRead(x2, &xv));
-  }
+  PetscCall(self->copy_multipliers(x2, y1));
   PetscCall(self->rate_derivative(self->w_, self->d_));
   PetscCall(MatMult(self->J_, x1, y2));
   PetscCall(VecAXPY(y2, 1.0, self->d_));

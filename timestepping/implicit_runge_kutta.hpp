@@ -64,6 +64,8 @@ class ImplicitRungeKuttaIntegrator {
   PetscErrorCode settings_for(EvaluationSettings* how) const;
   /// Zero on the multiplier rows of a vector of the assembler's layout.
   PetscErrorCode zero_multipliers(Vec v) const;
+  /// `to`'s multiplier rows = `from`'s (both of the assembler's layout).
+  PetscErrorCode copy_multipliers(Vec from, Vec to) const;
 
   SystemAssembler& sa_;
   DynamicSettings settings_;
