@@ -2,6 +2,7 @@
 // Validation is always on: a bad drive in an input file must fail loudly before a run starts.
 #include "core/drive.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -207,6 +208,36 @@ drive::ExternalSignal* Drive::external_signal() const {
 
 DriveValue Drive::evaluate(double t) const {
   return std::visit([t](const auto& k) { return evaluate_kind(k, t); }, kind_);
+}
+
+namespace {
+
+std::vector<double> breakpoints_of(const drive::Constant&) { return {}; }
+std::vector<double> breakpoints_of(const drive::TrapezoidalVelocity& p) {
+  return {p.t_start, p.t_start + p.accel_time, p.t_start + p.duration - p.decel_time, p.t_start + p.duration};
+}
+std::vector<double> breakpoints_of(const drive::CosineStep& p) { return {p.t_start, p.t_end}; }
+std::vector<double> breakpoints_of(const drive::CosineFull& p) { return {p.t1, p.t2}; }
+std::vector<double> breakpoints_of(const drive::TanhStep& p) { return {p.t1, p.t2}; }
+std::vector<double> breakpoints_of(const drive::Sine&) { return {}; }
+std::vector<double> breakpoints_of(const CubicSpline& s) { return s.x(); }
+std::vector<double> breakpoints_of(const drive::Sum& p) {
+  std::vector<double> all;
+  for (const Drive& d : p.terms) {
+    const std::vector<double> b = d.breakpoints();
+    all.insert(all.end(), b.begin(), b.end());
+  }
+  return all;
+}
+std::vector<double> breakpoints_of(const drive::External&) { return {}; }
+
+}  // namespace
+
+std::vector<double> Drive::breakpoints() const {
+  std::vector<double> b = std::visit([](const auto& k) { return breakpoints_of(k); }, kind_);
+  std::sort(b.begin(), b.end());
+  b.erase(std::unique(b.begin(), b.end()), b.end());
+  return b;
 }
 
 std::string Drive::describe() const {

@@ -4,6 +4,7 @@
 
 #include <string>
 #include <variant>
+#include <vector>
 
 #include "core/cubic_spline.hpp"
 #include "core/drive_params.hpp"
@@ -58,6 +59,11 @@ class Drive {
 
   /// Value, rate and acceleration at time t.
   [[nodiscard]] DriveValue evaluate(double t) const;
+
+  /// Times where the motion is not smooth (the acceleration or a higher derivative jumps: the
+  /// phases of a trapezoidal profile, the knots of a table), ascending. An integrator that ends
+  /// its steps there keeps its order; one that steps across them loses it.
+  [[nodiscard]] std::vector<double> breakpoints() const;
 
   /// One-line human-readable description with all parameters, for logs.
   [[nodiscard]] std::string describe() const;

@@ -393,7 +393,9 @@ int command_check(const Simulation& sim, MPI_Comm comm) {
     const std::string method = sim.dynamics.integrator == IntegratorKind::baumgarte     ? "Baumgarte / Runge-Kutta"
                                : sim.dynamics.integrator == IntegratorKind::implicit_rk ? "implicit Runge-Kutta (" +
                                                                                                sim.dynamics.implicit_method + ")"
-                                                                                         : "generalized-alpha";
+                               : sim.dynamics.integrator == IntegratorKind::minimum_dof
+                                   ? "minimum-DoF joint coordinates (Lagrange II) / Runge-Kutta " + sim.dynamics.rk_type
+                                   : "generalized-alpha";
     std::snprintf(buf, sizeof buf, "solver: %s from t = %g to %g s, time step %g\n", method.c_str(),
                   sim.dynamics.t_start, sim.dynamics.t_end, sim.dynamics.time_step);
     text += buf;

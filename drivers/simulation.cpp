@@ -3,6 +3,7 @@
 
 #include "timestepping/baumgarte.hpp"
 #include "timestepping/implicit_runge_kutta.hpp"
+#include "timestepping/minimum_dof_integrator.hpp"
 #include "timestepping/generalized_alpha.hpp"
 #include "timestepping/static_solver.hpp"
 
@@ -32,6 +33,8 @@ const char* integrator_name(IntegratorKind kind) {
       return "baumgarte";
     case IntegratorKind::implicit_rk:
       return "implicit_rk";
+    case IntegratorKind::minimum_dof:
+      return "minimum_dof";
     case IntegratorKind::generalized_alpha:
       break;
   }
@@ -56,6 +59,9 @@ PetscErrorCode simulate(Simulation& sim, SystemAssembler& sa, Vec U, Vec V, bool
     outcome->dynamics_run = true;
     if (sim.dynamics.integrator == IntegratorKind::baumgarte) {
       BaumgarteIntegrator integrator(sa, sim.dynamics);
+      PetscCall(integrator.run(U, V, observer, &outcome->dynamics, resume));
+    } else if (sim.dynamics.integrator == IntegratorKind::minimum_dof) {
+      MinimumDofIntegrator integrator(sa, sim.dynamics);
       PetscCall(integrator.run(U, V, observer, &outcome->dynamics, resume));
     } else if (sim.dynamics.integrator == IntegratorKind::implicit_rk) {
       ImplicitRungeKuttaIntegrator integrator(sa, sim.dynamics);

@@ -2,6 +2,8 @@
 // constraints, loads, solver and output settings, in this order of dependence.
 #include "io/model_reader.hpp"
 
+#include "assembly/minimum_dof_model.hpp"
+
 #include "io/body_readers.hpp"
 #include "io/drive_reader.hpp"
 #include "io/lattice_readers.hpp"
@@ -171,9 +173,10 @@ void read_solver(const InputNode& n, Simulation& sim) {
     sim.run_dynamics = true;
     DynamicSettings& dy = sim.dynamics;
     if (auto k = d->get("integrator")) {
-      const std::string kind = k->as_choice({"generalized_alpha", "baumgarte", "implicit_rk"});
+      const std::string kind = k->as_choice({"generalized_alpha", "baumgarte", "implicit_rk", "minimum_dof"});
       dy.integrator = kind == "baumgarte"     ? IntegratorKind::baumgarte
                       : kind == "implicit_rk" ? IntegratorKind::implicit_rk
+                      : kind == "minimum_dof" ? IntegratorKind::minimum_dof
                                               : IntegratorKind::generalized_alpha;
     }
     dy.t_start = d->get_double("t_start", 0.0);
@@ -332,6 +335,18 @@ Simulation read(const InputNode& root, const std::string& source) {
     root.fail(what);
   }
   if (sim.model.num_free_dofs() == 0) bodies.fail("every body is fixed: the model has no degree of freedom");
+  if (sim.run_dynamics && sim.dynamics.integrator == IntegratorKind::minimum_dof) {
+    // Joint coordinates need a tree of rigid bodies: say which body or constraint does not fit, there.
+    try {
+      const MinimumDofModel tree(sim.model);
+      if (tree.num_free() == 0) root["solver"]["dynamics"]["integrator"].fail("minimum_dof: every joint coordinate is driven, nothing is left to integrate");
+    } catch (const ModelError& e) {
+      const std::string what = e.what();
+      for (const auto& [name, node] : constraint_nodes)
+        if (what.find("'" + name + "'") != std::string::npos) node.fail("integrator minimum_dof: " + what);
+      root["solver"]["dynamics"]["integrator"].fail(what);
+    }
+  }
   if (auto s = root.get("start_state")) read_start_state(*s, sim);
   return sim;
 }

@@ -29,23 +29,11 @@ BaumgarteIntegrator::BaumgarteIntegrator(SystemAssembler& sa, DynamicSettings se
   PetscCallAbort(comm, KSPSetFromOptions(ksp_));
 
   PetscCallAbort(comm, TSCreate(comm, &ts_));
-  PetscCallAbort(comm, TSSetType(ts_, TSRK));
-  PetscCallAbort(comm, TSRKSetType(ts_, settings_.rk_type.c_str()));
   PetscCallAbort(comm, TSSetApplicationContext(ts_, this));
   PetscCallAbort(comm, TSSetRHSFunction(ts_, nullptr, rhs, this));
-  PetscCallAbort(comm, TSSetTime(ts_, settings_.t_start));
-  PetscCallAbort(comm, TSSetTimeStep(ts_, settings_.time_step));
-  PetscCallAbort(comm, TSSetMaxTime(ts_, settings_.t_end));
-  PetscCallAbort(comm, TSSetMaxSteps(ts_, settings_.max_steps));
-  PetscCallAbort(comm, TSSetExactFinalTime(ts_, TS_EXACTFINALTIME_MATCHSTEP));
-  PetscCallAbort(comm, TSSetErrorIfStepFails(ts_, PETSC_FALSE));  // we report failures ourselves
   PetscCallAbort(comm, TSSetPostStep(ts_, post_step));
   PetscCallAbort(comm, TSMonitorSet(ts_, monitor, this, nullptr));
-  TSAdapt adapt;
-  PetscCallAbort(comm, TSGetAdapt(ts_, &adapt));
-  PetscCallAbort(comm, TSAdaptSetType(adapt, settings_.adaptive ? TSADAPTBASIC : TSADAPTNONE));
-  PetscCallAbort(comm, TSSetTolerances(ts_, settings_.atol, nullptr, settings_.rtol, nullptr));
-  PetscCallAbort(comm, TSSetFromOptions(ts_));
+  PetscCallAbort(comm, configure_runge_kutta(ts_, settings_));
 }
 
 BaumgarteIntegrator::~BaumgarteIntegrator() {
@@ -106,22 +94,8 @@ PetscErrorCode BaumgarteIntegrator::accelerations(PetscReal t, Vec U, Vec V) {
   how.baumgarte_alpha = settings_.baumgarte_alpha;
   how.baumgarte_beta = settings_.baumgarte_beta;
   const EvaluationPoint at{Ulam0_, V, nullptr, nullptr, t, t};
-  PetscBool finite;
-  PetscCall(sa_.residual(at, how, b_, &finite));  // [F - f_ext; Gamma*] at a = 0, lambda = 0
-  // An explicit method has no Newton solve to cut: the run ends here, saying why.
-  PetscCheck(finite, sa_.comm(), PETSC_ERR_FP, "non-finite forces at t = %g%s%s", (double)t,
-             sa_.evaluation_error().empty() ? "" : ": ", sa_.evaluation_error().c_str());
-  PetscCall(VecScale(b_, -1.0));
-  PetscCall(sa_.jacobian(at, how, 0.0, 0.0, 1.0, S_));  // [M G^T; G 0]
-  PetscCall(KSPSetOperators(ksp_, S_, S_));
-  PetscCall(KSPSolve(ksp_, b_, y_));
+  PetscCall(solve_saddle_point(sa_, at, how, ksp_, S_, b_, y_));  // [F - f_ext; Gamma*] at a = 0, lambda = 0
   ++solves_;
-  KSPConvergedReason reason;
-  PetscCall(KSPGetConvergedReason(ksp_, &reason));
-  PetscCheck(reason >= 0, sa_.comm(), PETSC_ERR_NOT_CONVERGED,
-             "the saddle-point system [M G^T; G 0] could not be solved at t = %g (%s): redundant constraints or a "
-             "massless free DoF?",
-             (double)t, KSPConvergedReasons[reason]);
   PetscCall(VecCopy(y_, A_));
   PetscScalar *a, *uu;
   const PetscScalar* y;

@@ -8,7 +8,8 @@ namespace latticedyn {
 enum class IntegratorKind {
   generalized_alpha,  ///< TSALPHA2 on the index-3 system (default)
   baumgarte,          ///< state space with Baumgarte stabilisation, PETSc TSRK (thesis 4.5)
-  implicit_rk         ///< first-order constrained system, PETSc TSARKIMEX / TSROSW, projection
+  implicit_rk,        ///< first-order constrained system, PETSc TSARKIMEX / TSROSW, projection
+  minimum_dof         ///< joint coordinates of a tree of rigid bodies (Lagrange II), PETSc TSRK
 };
 
 struct DynamicSettings {
@@ -22,7 +23,7 @@ struct DynamicSettings {
   int max_steps = 100000000;
   double baumgarte_alpha = 10.0;  ///< [1/s], (4-27); the thesis suggests half the lowest natural frequency
   double baumgarte_beta = 1.0;
-  std::string rk_type = "5dp";    ///< TSRK scheme of the Baumgarte route
+  std::string rk_type = "5dp";    ///< TSRK scheme of the Baumgarte and minimum-DoF routes
   /// Method of the implicit Runge-Kutta route, "family:type": arkimex:3 (ESDIRK, L-stable,
   /// stiffly accurate, order 3), arkimex:4, arkimex:5, arkimex:l2, rosw:ra34pw2, rosw:rodas3, ...
   std::string implicit_method = "arkimex:3";

@@ -207,6 +207,45 @@ PetscErrorCode describe_ending(SystemAssembler& sa, TS ts, Vec U, const std::str
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode solve_saddle_point(SystemAssembler& sa, const EvaluationPoint& at, const EvaluationSettings& how,
+                                  KSP ksp, Mat S, Vec b, Vec y) {
+  PetscFunctionBeginUser;
+  PetscBool finite;
+  PetscCall(sa.residual(at, how, b, &finite));
+  // An explicit method has no Newton solve to cut: the run ends here, saying why.
+  PetscCheck(finite, sa.comm(), PETSC_ERR_FP, "non-finite forces at t = %g%s%s", (double)at.t,
+             sa.evaluation_error().empty() ? "" : ": ", sa.evaluation_error().c_str());
+  PetscCall(VecScale(b, -1.0));
+  PetscCall(sa.jacobian(at, how, 0.0, 0.0, 1.0, S));  // [M G^T; G 0]
+  PetscCall(KSPSetOperators(ksp, S, S));
+  PetscCall(KSPSolve(ksp, b, y));
+  KSPConvergedReason reason;
+  PetscCall(KSPGetConvergedReason(ksp, &reason));
+  PetscCheck(reason >= 0, sa.comm(), PETSC_ERR_NOT_CONVERGED,
+             "the saddle-point system [M G^T; G 0] could not be solved at t = %g (%s): redundant constraints or a "
+             "massless free DoF?",
+             (double)at.t, KSPConvergedReasons[reason]);
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode configure_runge_kutta(TS ts, const DynamicSettings& settings) {
+  PetscFunctionBeginUser;
+  PetscCall(TSSetType(ts, TSRK));
+  PetscCall(TSRKSetType(ts, settings.rk_type.c_str()));
+  PetscCall(TSSetTime(ts, settings.t_start));
+  PetscCall(TSSetTimeStep(ts, settings.time_step));
+  PetscCall(TSSetMaxTime(ts, settings.t_end));
+  PetscCall(TSSetMaxSteps(ts, settings.max_steps));
+  PetscCall(TSSetExactFinalTime(ts, TS_EXACTFINALTIME_MATCHSTEP));
+  PetscCall(TSSetErrorIfStepFails(ts, PETSC_FALSE));  // the integrators report failures themselves
+  TSAdapt adapt;
+  PetscCall(TSGetAdapt(ts, &adapt));
+  PetscCall(TSAdaptSetType(adapt, settings.adaptive ? TSADAPTBASIC : TSADAPTNONE));
+  PetscCall(TSSetTolerances(ts, settings.atol, nullptr, settings.rtol, nullptr));
+  PetscCall(TSSetFromOptions(ts));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode record_step(SystemAssembler& sa, const StepInfo& info, DynamicReport* r, StepObserver* observer) {
   double violation;
   int where;

@@ -18,6 +18,20 @@ namespace latticedyn {
 /// callers apply the options database afterwards.
 PetscErrorCode set_direct_solver_defaults(KSP ksp);
 
+/// The settings' explicit Runge-Kutta scheme on ts (the Baumgarte and minimum-DoF routes): TSRK
+/// `rk_type` from t_start to t_end in steps of time_step, the last step shortened to end at t_end,
+/// TSADAPTBASIC on the embedded estimate with rtol/atol when `adaptive`, step failures left to the
+/// caller to report; then the options database. Set the right-hand side and monitors before.
+PetscErrorCode configure_runge_kutta(TS ts, const DynamicSettings& settings);
+
+/// y = -[M G^T; G 0]^{-1} r(at) with r the residual in `how` (acceleration-level constraint rows):
+/// the accelerations (or their correction, when `at` carries some) and the multipliers at one
+/// state. The Baumgarte route's right-hand side and the minimum-DoF route's joint reactions. b
+/// and S are work space of the assembler's layout; a non-finite force or a failed factorisation
+/// is an error naming the time. Collective.
+PetscErrorCode solve_saddle_point(SystemAssembler& sa, const EvaluationPoint& at, const EvaluationSettings& how,
+                                  KSP ksp, Mat S, Vec b, Vec y);
+
 /// v = `coordinate` on the rows of coordinates, `multiplier` on the constraints' multiplier rows
 /// (v created by the assembler). Collective.
 PetscErrorCode fill_by_row_kind(const SystemAssembler& sa, double coordinate, double multiplier, Vec v);

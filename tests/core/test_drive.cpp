@@ -238,3 +238,25 @@ TEST(Drive, DescribeNamesKindAndParameters) {
 
 }  // namespace
 }  // namespace latticedyn
+
+namespace latticedyn {
+namespace {
+
+// Breakpoints: where the acceleration jumps, so that an integrator can end its steps there.
+TEST(Drive, BreakpointsAreWhereTheAccelerationJumps) {
+  const Drive trap(Drive::TrapezoidalVelocity{.t_start = 1.0, .duration = 8.0, .accel_time = 2.0, .decel_time = 3.0,
+                                              .distance = 1.0});
+  EXPECT_EQ(trap.breakpoints(), (std::vector<double>{1.0, 3.0, 6.0, 9.0}));
+  // The acceleration does jump at each of them (evaluate() gives the phase starting there).
+  for (double t : trap.breakpoints()) EXPECT_GT(std::abs(trap.evaluate(t).accel - trap.evaluate(t - 1e-9).accel), 0.01);
+  EXPECT_TRUE(Drive(Drive::Sine{.amplitude = 1.0, .frequency = 0.5}).breakpoints().empty());
+  EXPECT_TRUE(Drive(Drive::Constant{2.0}).breakpoints().empty());
+  EXPECT_EQ(Drive(Drive::Table{{0.0, 1.0, 2.5}, {0.0, 1.0, 0.0}}).breakpoints(), (std::vector<double>{0.0, 1.0, 2.5}));
+  // A sum: the union of its terms', ascending, each once.
+  const Drive sum(Drive::Sum{{Drive::CosineStep{.t_start = 0.0, .t_end = 3.0, .y_start = 0, .y_end = 1},
+                              Drive::CosineStep{.t_start = 3.0, .t_end = 5.0, .y_start = 0, .y_end = 1}}});
+  EXPECT_EQ(sum.breakpoints(), (std::vector<double>{0.0, 3.0, 5.0}));
+}
+
+}  // namespace
+}  // namespace latticedyn

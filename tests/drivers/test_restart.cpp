@@ -94,6 +94,14 @@ TEST_F(Restart, TheImplicitRungeKuttaRouteContinuesBitForBit) {
   expect_bit_for_bit(*this, "dpi", "0.6", 102, "");
 }
 
+// The minimum-DoF route rebuilds its joint coordinates from the stored poses at every checkpoint,
+// as a run continued from it does, and ends its steps on the drives' breakpoints in both: the
+// checkpoint at 0.5 s (also where slewing starts) is step 100 of h = 0.005 s.
+TEST_F(Restart, TheMinimumDofRouteContinuesBitForBit) {
+  write_pair(*this, "fold", FOLDING_BOOM, 0.25);
+  expect_bit_for_bit(*this, "fold", "0.6", 100, "");
+}
+
 // SIGINT: the run stops after a step with a checkpoint there, which continues the run to its end.
 TEST_F(Restart, AnInterruptedRunContinuesFromItsCheckpoint) {
   write("long.yaml", "base: " + std::string(DOUBLE_PENDULUM_BAUMGARTE) +

@@ -167,6 +167,8 @@ INSTANTIATE_TEST_SUITE_P(
                  "solver.dynamics.implicit_method", "not one of"},
         BadInput{"adaptive_undamped_alpha", "rho_infinity: 0.8}", "rho_infinity: 1.0, adaptive: true}", 0,
                  "solver.dynamics.adaptive", "rho_infinity below 1"},
+        BadInput{"minimum_dof_on_strut_ties", "rho_infinity: 0.8}", "rho_infinity: 0.8, integrator: minimum_dof}", 0,
+                 "solver.dynamics.integrator", "rigid bodies only"},
         BadInput{"loose_newton_tolerance", "rho_infinity: 0.8}", "rho_infinity: 0.8, newton_tolerance: 0.1}", 0,
                  "solver.dynamics.newton_tolerance", "below 1e-2"},
         BadInput{"duplicate_constraint_name", "{name: hook,", "{name: hinge,", 0, "constraints[1].name",
