@@ -382,32 +382,55 @@ void MinimumDofModel::coordinates_from_blocks(double t, const std::vector<BlockS
     }
   }
 
-  // Rates: least squares of T_f q_dot_f = v - (the drives' part of v); a remainder means
-  // velocities no motion of the joints can have.
+  // Rates: the given velocities must be a motion of the joints (a least-squares fit of all the
+  // coordinates' rates leaves nothing); the free rates are then fitted with the driven ones
+  // taken from their drives, which thus prescribe their motion from the start (a drive that
+  // starts moving bodies at rest).
   std::vector<BlockState> driven;
   block_states(t, q, VecX::Zero(nf), nullptr, driven);
   std::vector<MatX> columns;
   velocity_columns(t, q, columns);
-  const int rows = 6 * static_cast<int>(links_.size());
-  MatX A = MatX::Zero(rows, nf);
-  VecX rhs = VecX::Zero(rows);
+  std::vector<MatX> all_columns;  // every coordinate's columns, driven ones too
+  {
+    VecX Qv, Qd, Qdd;
+    full_motion(t, q, VecX::Zero(nf), nullptr, Qv, Qd, Qdd);
+    std::vector<BlockState> s(model_.blocks.size());
+    all_columns.assign(model_.blocks.size(), MatX());
+    for (std::size_t b = 0; b < model_.blocks.size(); ++b)
+      if (block_link_[b] >= 0) all_columns[b].setZero(3, num_coordinates());
+    for (int k = 0; k < num_coordinates(); ++k) {
+      VecX unit = VecX::Zero(num_coordinates());
+      unit(k) = 1.0;
+      jet_states(Qv, unit, VecX::Zero(num_coordinates()), s);
+      for (std::size_t b = 0; b < model_.blocks.size(); ++b)
+        if (block_link_[b] >= 0) all_columns[b].col(k) = s[b].vel;
+    }
+  }
+  const int rows = 6 * static_cast<int>(links_.size()), n = num_coordinates();
+  MatX A = MatX::Zero(rows, nf), Aall = MatX::Zero(rows, n);
+  VecX rhs = VecX::Zero(rows), given = VecX::Zero(rows);
   double speed = 0.0;
   for (std::size_t i = 0; i < links_.size(); ++i) {
     const int bt = links_[i].translation_block, br = links_[i].rotation_block;
     A.block(6 * i, 0, 3, nf) = columns[bt];
     A.block(6 * i + 3, 0, 3, nf) = length_scale_ * columns[br];  // angular rows in m/s at the model's size
+    Aall.block(6 * i, 0, 3, n) = all_columns[bt];
+    Aall.block(6 * i + 3, 0, 3, n) = length_scale_ * all_columns[br];
+    given.segment<3>(6 * i) = blocks[bt].vel;
+    given.segment<3>(6 * i + 3) = length_scale_ * blocks[br].vel;
     rhs.segment<3>(6 * i) = blocks[bt].vel - driven[bt].vel;
     rhs.segment<3>(6 * i + 3) = length_scale_ * (blocks[br].vel - driven[br].vel);
     speed = std::max({speed, blocks[bt].vel.norm(), length_scale_ * blocks[br].vel.norm()});
   }
-  qdot = nf ? VecX(A.colPivHouseholderQr().solve(rhs)) : VecX();
-  const double misfit = nf ? (A * qdot - rhs).cwiseAbs().maxCoeff() : rhs.cwiseAbs().maxCoeff();
+  const VecX all_rates = n ? VecX(Aall.colPivHouseholderQr().solve(given)) : VecX();
+  const double misfit = n ? (Aall * all_rates - given).cwiseAbs().maxCoeff() : given.cwiseAbs().maxCoeff();
   if (misfit > 1e-8 * std::max(1.0, speed)) {
     char buf[200];
-    std::snprintf(buf, sizeof buf, "the starting velocities at t = %g do not fit the joints: %.3g m/s remain after the "
-                  "best fit of the coordinates' rates", t, misfit);
+    std::snprintf(buf, sizeof buf, "the starting velocities at t = %g are no motion of the joints: %.3g m/s remain "
+                  "after the best fit of the joint coordinates' rates", t, misfit);
     throw ModelError(buf);
   }
+  qdot = nf ? VecX(A.colPivHouseholderQr().solve(rhs)) : VecX();
 }
 
 }  // namespace latticedyn

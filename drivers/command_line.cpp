@@ -55,9 +55,10 @@ const std::vector<CommandSpec>& commands() {
        "it as one output step. PETSc's -snes_*, -ksp_*, -pc_* options change the solver.\n"
        "  latticedyn static examples/main_boom.yaml --output results/boom\n"},
       {"run", "static equilibrium if the model asks for it, then the dynamics", {"--output", "--restart"},
-       "Statics if solver.static is enabled, then the dynamics of solver.dynamics (generalized-alpha or the\n"
-       "Baumgarte route); results every output.interval, checkpoints every output.checkpoint_interval, at the\n"
-       "end and on SIGINT/SIGTERM. --restart continues a run from a checkpoint (docs/model-format.md).\n"
+       "Statics if solver.static is enabled, then the dynamics of solver.dynamics (its integrator:\n"
+       "generalized_alpha, baumgarte, implicit_rk or minimum_dof); results every output.interval, checkpoints\n"
+       "every output.checkpoint_interval, at the end and on SIGINT/SIGTERM. --restart continues a run from a\n"
+       "checkpoint (docs/model-format.md).\n"
        "  latticedyn run examples/crane/lifting.yaml\n"
        "  latticedyn run examples/crane/lifting.yaml --restart results/crane/lifting.h5\n"
        "  mpiexec -n 2 latticedyn run examples/crane/lifting_full.yaml -ts_max_time 5\n"},

@@ -340,6 +340,17 @@ Simulation read(const InputNode& root, const std::string& source) {
     try {
       const MinimumDofModel tree(sim.model);
       if (tree.num_free() == 0) root["solver"]["dynamics"]["integrator"].fail("minimum_dof: every joint coordinate is driven, nothing is left to integrate");
+      if (!sim.run_static && !root.get("start_state")) {  // dynamics from the model's own state: it must fit the joints
+        std::vector<BlockState> blocks(sim.model.blocks.size());
+        for (std::size_t b = 0; b < blocks.size(); ++b) {
+          const DofBlock& blk = sim.model.blocks[b];
+          blocks[b].pos = blk.position0;
+          blocks[b].rot = blk.orientation0;
+          blocks[b].vel = blk.velocity0;  // velocity variables: r_dot, body omega
+        }
+        VecX q, qdot;
+        tree.coordinates_from_blocks(sim.dynamics.t_start, blocks, q, qdot);
+      }
     } catch (const ModelError& e) {
       const std::string what = e.what();
       for (const auto& [name, node] : constraint_nodes)
