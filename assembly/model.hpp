@@ -25,19 +25,22 @@ struct DofBlock {
   Mat3 orientation0 = Mat3::Identity();
   Vec3 velocity0 = Vec3::Zero();     ///< translation: r_dot; rotation: body omega; scalar: (0)
   std::string label;                 ///< where it comes from, for messages ("boom.end2")
+  /// Its equations are first order in it (a hydraulic pressure): the rate is not an initial
+  /// condition but follows from the state (consistent_first_order_rates).
+  bool first_order = false;
   int size() const { return slot_size(kind); }
 
   static DofBlock translation(const Vec3& position, const Vec3& velocity, std::string label, bool fixed = false) {
-    return DofBlock{SlotKind::translation, fixed, position, Mat3::Identity(), velocity, std::move(label)};
+    return DofBlock{SlotKind::translation, fixed, position, Mat3::Identity(), velocity, std::move(label), false};
   }
   static DofBlock vector(const Vec3& value, const Vec3& rate, std::string label, bool fixed = false) {
-    return DofBlock{SlotKind::vector, fixed, value, Mat3::Identity(), rate, std::move(label)};
+    return DofBlock{SlotKind::vector, fixed, value, Mat3::Identity(), rate, std::move(label), false};
   }
   static DofBlock scalar(double value, double rate, std::string label, bool fixed = false) {
-    return DofBlock{SlotKind::scalar, fixed, Vec3(value, 0, 0), Mat3::Identity(), Vec3(rate, 0, 0), std::move(label)};
+    return DofBlock{SlotKind::scalar, fixed, Vec3(value, 0, 0), Mat3::Identity(), Vec3(rate, 0, 0), std::move(label), false};
   }
   static DofBlock rotation(const Mat3& orientation, const Vec3& omega, std::string label, bool fixed = false) {
-    return DofBlock{SlotKind::rotation, fixed, Vec3::Zero(), orientation, omega, std::move(label)};
+    return DofBlock{SlotKind::rotation, fixed, Vec3::Zero(), orientation, omega, std::move(label), false};
   }
 };
 

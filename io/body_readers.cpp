@@ -6,6 +6,7 @@
 
 #include "elements/rigid_body.hpp"
 #include "elements/strut_tie.hpp"
+#include "io/hydraulic_readers.hpp"
 
 #include <stdexcept>
 
@@ -104,13 +105,7 @@ void read_strut_tie(ReaderContext& ctx, const InputNode& n, const std::string& n
   if ((r2 - r1).norm() == 0.0) ends.fail("the two ends coincide: a strut tie needs a non-zero length axis");
   p.rest_length = n.get_positive("rest_length", (r2 - r1).norm());
   p.smoothing = n.get_non_negative("smoothing", 0.0);
-  Vec3 v1 = Vec3::Zero(), v2 = Vec3::Zero();
-  if (auto v = n.get("velocities")) {
-    const auto vs = v->items();
-    if (vs.size() != 2) v->fail("expected the two end velocities [[vx1, vy1, vz1], [vx2, vy2, vz2]]");
-    v1 = vs[0].as_vec3();
-    v2 = vs[1].as_vec3();
-  }
+  const auto [v1, v2] = ReaderContext::end_velocities(n);
   const int body = ctx.builder.add_body(name, "strut_tie");
   ctx.bodies[name] = BodyRecord{body, "strut_tie", {}};
   const int t1 = ctx.builder.add_block(DofBlock::translation(r1, v1, name + ".1"));
@@ -148,7 +143,8 @@ void read_body(ReaderContext& ctx, const InputNode& n) {
   if (name.empty() || name.find('.') != std::string::npos) name_node.fail("body names must be non-empty and contain no '.'");
   if (ctx.bodies.count(name)) name_node.fail("a body named '" + name + "' exists already");
   std::string type =
-      n["type"].as_choice({"rigid_body", "strut_tie", "timoshenko_beam", "cubic_spline_beam", "rope", "lattice", "super_truss"});
+      n["type"].as_choice({"rigid_body", "strut_tie", "timoshenko_beam", "cubic_spline_beam", "rope", "lattice", "super_truss",
+                           "hydraulic_cylinder"});
   if ((type == "lattice" || type == "super_truss") && !ctx.truss_bodies.empty()) type = ctx.truss_bodies;
   try {
     if (type == "rigid_body") read_rigid_body(ctx, n, name);
@@ -157,6 +153,7 @@ void read_body(ReaderContext& ctx, const InputNode& n) {
     if (type == "rope") read_rope(ctx, n, name);
     if (type == "lattice") read_lattice(ctx, n, name);
     if (type == "super_truss") read_super_truss(ctx, n, name);
+    if (type == "hydraulic_cylinder") read_hydraulic_cylinder(ctx, n, name);
   } catch (const std::invalid_argument& e) {
     n.fail(e.what());
   }

@@ -181,13 +181,7 @@ void read_rope(ReaderContext& ctx, const InputNode& n, const std::string& name) 
   const RopeShape shape = rope_initial_shape(g.start, g.end, L0, g.elements, across, weight,
                                              p.material.youngs_modulus * p.section.area, sag);
   // End velocities, interpolated linearly along the rope (the slopes change at (v2 - v1) / L0).
-  Vec3 v1 = Vec3::Zero(), v2 = Vec3::Zero();
-  if (auto vn = n.get("velocities")) {
-    const auto vs = vn->items();
-    if (vs.size() != 2) vn->fail("expected the two end velocities [[vx1, vy1, vz1], [vx2, vy2, vz2]]");
-    v1 = vs[0].as_vec3();
-    v2 = vs[1].as_vec3();
-  }
+  const auto [v1, v2] = ReaderContext::end_velocities(n);
   const int body = ctx.builder.add_body(name, "rope");
   ctx.bodies[name] = BodyRecord{body, "rope", {}};
   std::vector<MemberNode> nodes;

@@ -6,6 +6,7 @@
 
 #include "io/body_readers.hpp"
 #include "io/drive_reader.hpp"
+#include "io/hydraulic_readers.hpp"
 #include "io/lattice_readers.hpp"
 #include "io/petsc_option_policy.hpp"
 #include "io/reader_context.hpp"
@@ -290,7 +291,7 @@ void check_rest_lengths(const ReaderContext& ctx, const Simulation& sim) {
 Simulation read(const InputNode& root, const std::string& source) {
   if (!root.is_map()) root.fail("a model file is a map of keys (title, gravity, bodies, ...)");
   root.allow_only({"title", "gravity", "materials", "sections", "truss_sections", "truss_bodies", "drives", "ground",
-                   "bodies", "constraints", "loads", "solver", "output", "start_state"});
+                   "bodies", "constraints", "loads", "solver", "output", "start_state", "hydraulics"});
   Simulation sim;
   sim.source = source;
   const std::string stem = std::filesystem::path(source).stem().string();
@@ -314,14 +315,26 @@ Simulation read(const InputNode& root, const std::string& source) {
   if (auto d = root.get("drives"))
     for (const auto& [name, node] : d->entries()) ctx.drives[name] = ctx.builder.add_drive(name, read_drive(node));
   if (auto g = root.get("ground")) read_ground(ctx, *g);
+  const std::optional<InputNode> hydraulics = root.get("hydraulics");
+  if (hydraulics) read_hydraulic_nodes(ctx, *hydraulics);
   const InputNode bodies = root["bodies"];
   if (bodies.items().empty()) bodies.fail("a model needs at least one body");
   for (const InputNode& b : bodies.items()) read_body(ctx, b);
 
+  if (hydraulics) read_hydraulic_elements(ctx, *hydraulics);
   std::map<std::string, InputNode> constraint_nodes;
   if (auto c = root.get("constraints")) read_constraints(ctx, *c, constraint_nodes);
   if (auto l = root.get("loads")) read_loads(ctx, *l);
   if (auto s = root.get("solver")) read_solver(*s, sim);
+  // A closed chamber's pressure follows from the oil it has taken in, a state of the dynamics
+  // that a static solve (all rates zero) cannot know.
+  if (hydraulics && sim.run_static)
+    root["solver"]["static"].fail("a model with a hydraulic circuit has no static solve: its pressures are states of the "
+                                  "dynamics (give the nodes' starting pressures and run the dynamics)");
+  if (hydraulics && sim.run_dynamics && (sim.dynamics.integrator == IntegratorKind::baumgarte ||
+                                         sim.dynamics.integrator == IntegratorKind::minimum_dof))
+    root["solver"]["dynamics"]["integrator"].fail("a hydraulic circuit needs generalized_alpha or implicit_rk (its "
+                                                  "pressures have no mass to solve the accelerations for)");
   if (auto o = root.get("output")) read_output(ctx, *o, sim);
   check_rest_lengths(ctx, sim);
 

@@ -112,6 +112,23 @@ int ReaderContext::drive(const InputNode& n) const {
   return it->second;
 }
 
+int ReaderContext::hydraulic_node(const InputNode& n) const {
+  const std::string name = n.as_string();
+  const auto it = hydraulic_nodes.find(name);
+  if (it == hydraulic_nodes.end()) n.fail("no hydraulic node named '" + name + "' (define it under 'hydraulics.nodes')");
+  return it->second;
+}
+
+std::pair<Vec3, Vec3> ReaderContext::end_velocities(const InputNode& body) {
+  std::pair<Vec3, Vec3> v{Vec3::Zero(), Vec3::Zero()};
+  if (auto n = body.get("velocities")) {
+    const auto vs = n->items();
+    if (vs.size() != 2) n->fail("expected the two end velocities [[vx1, vy1, vz1], [vx2, vy2, vz2]]");
+    v = {vs[0].as_vec3(), vs[1].as_vec3()};
+  }
+  return v;
+}
+
 Mat3 ReaderContext::orientation(const InputNode& p) {
   int given = 0;
   for (const char* k : {"rotation", "rotation_deg", "axis_angle", "cardan_zyx_deg"}) given += p.has(k) ? 1 : 0;

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "assembly/model_builder.hpp"
+#include "elements/hydraulic_fluid.hpp"
 #include "elements/section.hpp"
 #include "elements/truss_section.hpp"
 #include "io/input_node.hpp"
@@ -28,6 +29,8 @@ class ReaderContext {
   std::map<std::string, TrussSectionSpec> truss_sections;
   std::map<std::string, int> drives;
   std::map<std::string, BodyRecord> bodies;
+  std::map<std::string, int> hydraulic_nodes;  ///< node name -> its pressure's scalar block
+  HydraulicFluid fluid;                        ///< of the hydraulic circuit
   /// `truss_bodies`: empty (as given), "lattice" or "super_truss": the type every lattice and
   /// super truss body is built as, so one model file gives the full and the reduced model.
   std::string truss_bodies;
@@ -62,9 +65,13 @@ class ReaderContext {
   /// "body.joint" -> model joint index.
   int joint(const InputNode& n) const;
   int drive(const InputNode& n) const;
+  /// A hydraulic node by name -> its pressure's block.
+  int hydraulic_node(const InputNode& n) const;
   /// Orientation from at most one of: rotation (rotation vector, rad), rotation_deg,
   /// axis_angle {axis, angle_deg}, cardan_zyx_deg [x, y, z]; identity if none is given.
   static Mat3 orientation(const InputNode& parent);
+  /// A two-ended body's `velocities: [[vx1, vy1, vz1], [vx2, vy2, vz2]]`, zero if not given.
+  static std::pair<Vec3, Vec3> end_velocities(const InputNode& body);
   /// Registers a joint of a body under `name` and in the builder as "body.name".
   int add_joint(const InputNode& at, const std::string& body, const std::string& name, Joint joint);
 };

@@ -5,6 +5,7 @@
 #include "core/rotation.hpp"
 #include "io/checkpoint.hpp"
 #include "io/hdf5_file.hpp"
+#include "io/hydraulic_readers.hpp"
 #include "io/viz_geometry.hpp"
 #include "io/xdmf.hpp"
 
@@ -102,6 +103,8 @@ struct ResultWriter::Impl {
   /// Writes the kept rows and flushes the .h5 and the CSV, then rewrites the XDMF if due (always
   /// when `final`).
   void flush(bool final = false);
+  /// Free hydraulic nodes (their pressures go into the probe CSV).
+  std::vector<int> pressure_blocks() const;
   void write_probe_header();
   void write_probe_row(const ModelState& state);
   void add(hid_t group, const std::string& name, std::vector<hsize_t> row, const char* units,
@@ -574,6 +577,14 @@ void ResultWriter::Impl::track_peak(double time) {
   }
 }
 
+std::vector<int> ResultWriter::Impl::pressure_blocks() const {
+  std::vector<int> out;
+  for (int b = 0; b < static_cast<int>(model.blocks.size()); ++b)
+    if (!model.blocks[b].fixed && model.blocks[b].kind == SlotKind::scalar && model.blocks[b].label.starts_with(kHydraulicNodeLabel))
+      out.push_back(b);
+  return out;
+}
+
 void ResultWriter::Impl::write_probe_header() {
   probes = std::fopen(csv.c_str(), "w");
   if (!probes) os_fail("create", csv, errno);
@@ -583,6 +594,10 @@ void ResultWriter::Impl::write_probe_header() {
       header += ',';
       header += csv_field(model.joints[j].name + c);
     }
+  for (int b : pressure_blocks()) {
+    header += ',';
+    header += csv_field(model.blocks[b].label.substr(kHydraulicNodeLabel.size()) + ".p [Pa]");
+  }
   header += "\n";
   if (std::fputs(header.c_str(), probes) < 0 || std::fflush(probes) != 0) os_fail("write", csv, errno);
 }
@@ -595,6 +610,10 @@ void ResultWriter::Impl::write_probe_row(const ModelState& state) {
       row += ',';
       row += io::format_double(x);
     }
+  }
+  for (int b : pressure_blocks()) {  // the hydraulic nodes' pressures after the probe joints
+    row += ',';
+    row += io::format_double(state.block(b).pos(0));
   }
   row += "\n";
   if (std::fputs(row.c_str(), probes) < 0) os_fail("write", csv, errno);  // flushed with the .h5

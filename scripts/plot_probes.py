@@ -50,8 +50,19 @@ def main():
     a = p.parse_args()
     cols, units = read(a.csv)
     t = cols["time"]
-    joints = list(dict.fromkeys(name.rsplit(".", 1)[0] for name in cols if name != "time"))
-    fig, axes = plt.subplots(len(joints), 2, figsize=(11, 3.2 * len(joints)), squeeze=False, sharex=True)
+    # Hydraulic node pressures ("node.p [Pa]") after the joints: one panel row of their own.
+    pressures = [name for name in cols if name.endswith(".p")]
+    joints = list(dict.fromkeys(name.rsplit(".", 1)[0] for name in cols if name != "time" and name not in pressures))
+    rows = len(joints) + (1 if pressures else 0)
+    fig, axes = plt.subplots(rows, 2, figsize=(11, 3.2 * rows), squeeze=False, sharex=True)
+    if pressures:
+        ax = axes[-1][0]
+        for name in pressures:
+            ax.plot(t, [x / 1e5 for x in cols[name]], label=name[:-2])
+        ax.set_ylabel("pressure [bar]" if units[pressures[0]] == "Pa" else f"pressure [{units[pressures[0]]}]")
+        ax.grid(True, alpha=0.3)
+        ax.legend(loc="upper right", fontsize=8)
+        axes[-1][1].axis("off")
     for row, joint in enumerate(joints):
         for c in "xyz":
             axes[row][0].plot(t, cols[f"{joint}.{c}"], label=c)
@@ -63,6 +74,9 @@ def main():
             ax.legend(loc="upper right", fontsize=8)
     for ax in axes[-1]:
         ax.set_xlabel(f"time [{units['time']}]")
+    if pressures:
+        axes[-2][1].tick_params(labelbottom=True)
+        axes[-2][1].set_xlabel(f"time [{units['time']}]")
     fig.suptitle(a.title or a.csv)
     fig.tight_layout()
     fig.savefig(a.output, dpi=110)

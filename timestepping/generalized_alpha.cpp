@@ -100,7 +100,10 @@ GeneralizedAlphaIntegrator::GeneralizedAlphaIntegrator(SystemAssembler& sa, Dyna
   PetscCallAbort(comm, SNESSetType(snes, SNESNEWTONLS));
   SNESLineSearch ls;
   PetscCallAbort(comm, SNESGetLineSearch(snes, &ls));
-  PetscCallAbort(comm, SNESLineSearchSetType(ls, SNESLINESEARCHBASIC));  // full Newton steps
+  // Full Newton steps; a hydraulic circuit's valves (a relief valve's opening law, steep between
+  // its cracking and full-open pressures) make Newton overshoot there: backtracking.
+  PetscCallAbort(comm, SNESLineSearchSetType(ls, has_first_order_blocks(sa_.model()) ? SNESLINESEARCHBT
+                                                                                    : SNESLINESEARCHBASIC));
   const double force_scale = std::max(1.0, sa_.characteristic_mass() * std::max(1.0, sa_.model().gravity.norm()));
   // rtol 1e-8: the Newton error stays below the time-discretisation error (double pendulum:
   // energy drift 3.9e-5 at 1e-8, 5.7e-5 at 1e-6, 4.0e-5 at 1e-10; docs/performance.md).
@@ -379,6 +382,8 @@ PetscErrorCode GeneralizedAlphaIntegrator::run(Vec U, Vec V, StepObserver* obser
     iteration_offset_ = resume->newton_iterations;
     rejection_offset_ = resume->rejected_steps;
     resumed_step_ = true;
+  } else {
+    PetscCall(consistent_first_order_rates(sa_, t_begin, U, V));
   }
   PetscCall(solve(U, V, report));
   PetscFunctionReturn(0);

@@ -115,7 +115,7 @@ ImplicitRungeKuttaIntegrator::ImplicitRungeKuttaIntegrator(SystemAssembler& sa, 
   PetscCallAbort(comm, SNESSetType(snes, SNESNEWTONLS));
   SNESLineSearch ls;
   PetscCallAbort(comm, SNESGetLineSearch(snes, &ls));
-  PetscCallAbort(comm, SNESLineSearchSetType(ls, SNESLINESEARCHBASIC));
+  PetscCallAbort(comm, SNESLineSearchSetType(ls, has_first_order_blocks(sa_.model()) ? SNESLINESEARCHBT : SNESLINESEARCHBASIC));
   // The stage equations to the same fraction of the model's load as generalized-alpha's.
   const double atol = std::max(settings_.newton_tolerance * sa_.characteristic_load(), sa_.residual_floor());
   PetscCallAbort(comm, SNESSetTolerances(snes, atol, 1e-10, 1e-14, 25, 100000));
@@ -486,6 +486,8 @@ PetscErrorCode ImplicitRungeKuttaIntegrator::run(Vec U, Vec V, StepObserver* obs
     iteration_offset_ = resume->newton_iterations;
     rejection_offset_ = resume->rejected_steps;
     resumed_step_ = true;
+  } else {
+    PetscCall(consistent_first_order_rates(sa_, t_begin, U, V));
   }
   // X = [U; V]; the multiplier slots of V are zero.
   {

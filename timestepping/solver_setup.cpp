@@ -228,6 +228,60 @@ PetscErrorCode solve_saddle_point(SystemAssembler& sa, const EvaluationPoint& at
   PetscFunctionReturn(0);
 }
 
+bool has_first_order_blocks(const Model& model) {
+  return std::any_of(model.blocks.begin(), model.blocks.end(), [](const DofBlock& b) { return b.first_order && !b.fixed; });
+}
+
+PetscErrorCode consistent_first_order_rates(SystemAssembler& sa, double t, Vec U, Vec V) {
+  PetscFunctionBeginUser;
+  const Model& model = sa.model();
+  const DofMap& dofs = sa.dofs();
+  std::vector<PetscInt> rows;  // owned first-order rows, local offsets
+  for (std::size_t b = 0; b < model.blocks.size(); ++b) {
+    const DofBlock& blk = model.blocks[b];
+    if (!blk.first_order || blk.fixed || dofs.block_owner(static_cast<int>(b)) != dofs.rank()) continue;
+    for (int i = 0; i < blk.size(); ++i) rows.push_back(dofs.block_dof(static_cast<int>(b)) - dofs.owned_begin() + i);
+  }
+  PetscInt any = static_cast<PetscInt>(rows.size());
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &any, 1, MPIU_INT, MPI_SUM, sa.comm()));
+  if (any == 0) PetscFunctionReturn(0);
+  Vec r0, r1;
+  PetscCall(sa.create_vector(&r0));
+  PetscCall(sa.create_vector(&r1));
+  auto set_rates = [&](double value) -> PetscErrorCode {
+    PetscScalar* v;
+    PetscFunctionBeginUser;
+    PetscCall(VecGetArray(V, &v));
+    for (PetscInt i : rows) v[i] = value;
+    PetscCall(VecRestoreArray(V, &v));
+    PetscFunctionReturn(0);
+  };
+  const EvaluationPoint at{U, V, nullptr, nullptr, t, t};
+  const EvaluationSettings how;
+  PetscBool finite0, finite1;
+  PetscCall(set_rates(0.0));
+  PetscCall(sa.residual(at, how, r0, &finite0));
+  PetscCall(set_rates(1.0));
+  PetscCall(sa.residual(at, how, r1, &finite1));
+  PetscCheck(finite0 && finite1, sa.comm(), PETSC_ERR_FP, "non-finite forces at the start (t = %g)%s%s", t,
+             sa.evaluation_error().empty() ? "" : ": ", sa.evaluation_error().c_str());
+  const PetscScalar *f, *g;
+  PetscScalar* v;
+  PetscCall(VecGetArrayRead(r0, &f));
+  PetscCall(VecGetArrayRead(r1, &g));
+  PetscCall(VecGetArray(V, &v));
+  for (PetscInt i : rows) {
+    const double c = g[i] - f[i];
+    v[i] = c != 0.0 ? -f[i] / c : 0.0;  // a row without its rate (no volume) keeps a zero rate
+  }
+  PetscCall(VecRestoreArray(V, &v));
+  PetscCall(VecRestoreArrayRead(r0, &f));
+  PetscCall(VecRestoreArrayRead(r1, &g));
+  PetscCall(VecDestroy(&r0));
+  PetscCall(VecDestroy(&r1));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode configure_runge_kutta(TS ts, const DynamicSettings& settings) {
   PetscFunctionBeginUser;
   PetscCall(TSSetType(ts, TSRK));

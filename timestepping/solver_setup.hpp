@@ -32,6 +32,15 @@ PetscErrorCode configure_runge_kutta(TS ts, const DynamicSettings& settings);
 PetscErrorCode solve_saddle_point(SystemAssembler& sa, const EvaluationPoint& at, const EvaluationSettings& how,
                                   KSP ksp, Mat S, Vec b, Vec y);
 
+/// Whether the model has first-order DoFs (DofBlock::first_order: a hydraulic circuit).
+bool has_first_order_blocks(const Model& model);
+
+/// The rates of the first-order DoFs (DofBlock::first_order: hydraulic pressures) consistent with
+/// their equations at (t, U, V), the other rates kept: each such row is linear in its own rate
+/// alone, r = c p_dot + f(U, V), so p_dot = -f / c from two residual evaluations. A run starts
+/// with them (a pressure's rate is not an initial condition). Collective; nothing without such DoFs.
+PetscErrorCode consistent_first_order_rates(SystemAssembler& sa, double t, Vec U, Vec V);
+
 /// v = `coordinate` on the rows of coordinates, `multiplier` on the constraints' multiplier rows
 /// (v created by the assembler). Collective.
 PetscErrorCode fill_by_row_kind(const SystemAssembler& sa, double coordinate, double multiplier, Vec v);

@@ -4,6 +4,7 @@
 #include "verification/trajectory.hpp"
 
 #include "io/input_node.hpp"
+#include "io/hydraulic_readers.hpp"
 #include "io/model_reader.hpp"
 
 #include <slepcsys.h>
@@ -159,7 +160,7 @@ Result evaluate(const InputNode& c, const Trajectory& tr, const std::filesystem:
                                                  "energy_drift", "max_violation", "variation", "compare_run",
                                                  "mpi_consistency", "frequency", "buckling_factor", "limit_load",
                                                  "min_axial_force", "damping_ratio", "section_force",
-                                                 "member_stress"});
+                                                 "member_stress", "pressure"});
   int rank = 0, size = 1;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &size);
@@ -300,6 +301,17 @@ Result evaluate(const InputNode& c, const Trajectory& tr, const std::filesystem:
     if (row < 0 || row >= m.constraints[con].rows()) c["row"].fail("no such row");
     return compare(c, "multiplier " + c["constraint"].as_string() + "[" + std::to_string(row) + "]",
                    tr.final_state->multipliers(con)(row));
+  }
+  if (what == "pressure") {  // a hydraulic node's pressure at the end of the run
+    c.allow_only({"what", "node", "expected", "abs_tol", "rel_tol"});
+    const std::string node = c["node"].as_string();
+    int offset = 0, found = -1;
+    for (const DofBlock& b : m.blocks) {
+      if (!b.fixed && b.label == std::string(kHydraulicNodeLabel) + node) found = offset;
+      if (!b.fixed) offset += b.size();
+    }
+    if (found < 0) c["node"].fail("no free hydraulic node named '" + node + "'");
+    return compare(c, "pressure " + node, tr.final_state->coordinates_in_model_order()[found]);
   }
   const int joint = joint_of(m, c["joint"]);
   const int comp = component_of(c["component"]);
