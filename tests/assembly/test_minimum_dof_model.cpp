@@ -16,6 +16,8 @@
 #include <array>
 #include <cmath>
 #include <functional>
+#include <string>
+#include <vector>
 
 namespace latticedyn {
 namespace {
@@ -261,6 +263,103 @@ TEST(MinimumDofModel, SlewedJibPendulumFollowsItsLagrangeEquations) {
   // Rotation vector against Cardan angles, virtual power of the element residuals against the
   // energy: the same path to the integrators' (fourth-order) error.
   EXPECT_LT(largest_path_difference(sim.model, ref, "load.centre", 4.0, 2e-3), 1e-9);
+}
+
+// A slewing jib with a chain of rigid links hanging from its tip on spherical joints (the double
+// and triple jib pendulums of thesis Fig. 5-2c, d), each link's top joint at its origin.
+struct HangingLink {
+  double mass, centroid, length;  // centroid and next joint below the top joint, m
+  Vec3 inertia;
+};
+
+std::string jib_chain_yaml(const std::vector<HangingLink>& links) {
+  std::string y = R"(
+title: jib chain
+gravity: [0, 0, -9.81]
+drives:
+  slewing: {type: sine, amplitude: 0.8, frequency: 0.15}
+ground: {joints: [{name: column_top, position: [0, 0, 10]}]}
+bodies:
+  - {name: jib, type: rigid_body, mass: 600, centroid: [3, 0, 0], inertia: [10, 1800, 1800], position: [0, 0, 10],
+     joints: [{name: root, position: [0, 0, 0]}, {name: tip, position: [6, 0, 0]}]}
+)";
+  double z = 10;
+  auto num = [](double v) { return std::to_string(v); };
+  for (std::size_t i = 0; i < links.size(); ++i) {
+    const HangingLink& l = links[i];
+    y += "  - {name: l" + std::to_string(i) + ", type: rigid_body, mass: " + num(l.mass) + ", centroid: [0, 0, " +
+         num(-l.centroid) + "], inertia: [" + num(l.inertia(0)) + ", " + num(l.inertia(1)) + ", " + num(l.inertia(2)) +
+         "], position: [6, 0, " + num(z) + "], joints: [{name: top, position: [0, 0, 0]}, {name: bottom, position: [0, 0, " +
+         num(-l.length) + "]}]}\n";
+    z -= l.length;
+  }
+  y += "constraints:\n  - {name: slewing, type: revolute, axis: z, joints: [ground.column_top, jib.root], drive: slewing}\n";
+  for (std::size_t i = 0; i < links.size(); ++i)
+    y += "  - {name: s" + std::to_string(i) + ", type: spherical, joints: [" +
+         (i == 0 ? std::string("jib.tip") : "l" + std::to_string(i - 1) + ".bottom") + ", l" + std::to_string(i) + ".top]}\n";
+  return y;
+}
+
+// The chain's Lagrangian in Cardan angles (three per link, relative to the link above) and the
+// bottom of the last link.
+template <int N>
+LagrangeModel<N> jib_chain_lagrange(const std::vector<HangingLink>& links, const Model& model) {
+  const int k = static_cast<int>(links.size());
+  LagrangeModel<N> ref;
+  ref.n = 3 * k;
+  ref.m = 1;
+  const Vec3 g = model.gravity;
+  ref.lagrangian = [g, links, k](const std::array<HyperDual<N>, N>& x) {
+    using S = HyperDual<N>;
+    const S &u = x[6 * k], &ud = x[6 * k + 1];
+    const V3<S> top = vec<S>(0, 0, 10);
+    const M3<S> Rj = rotation_z(u);
+    const V3<S> wj = vec<S>(0, 0, 1) * ud;
+    const V3<S> cj = Rj * vec<S>(3, 0, 0);
+    S L = body_lagrangian<S>(600, Vec3(10, 1800, 1800), top + cj, wj.cross(cj), Rj, wj, g);
+    M3<S> R = Rj;
+    V3<S> w = wj, p = top + Rj * vec<S>(6, 0, 0), vp = wj.cross(Rj * vec<S>(6, 0, 0));
+    for (int i = 0; i < k; ++i) {
+      M3<S> D;
+      V3<S> wrel;
+      cardan<S>(&x[3 * i], &x[3 * k + 3 * i], D, wrel);
+      w = w + R * wrel;
+      R = R * D;
+      const V3<S> c = R * vec<S>(0, 0, -links[i].centroid), down = R * vec<S>(0, 0, -links[i].length);
+      L += body_lagrangian<S>(links[i].mass, links[i].inertia, p + c, vp + w.cross(c), R, w, g);
+      vp = vp + w.cross(down);
+      p = p + down;
+    }
+    return L;
+  };
+  ref.point = [links, k](const VecX& q, const VecX& u) {
+    Mat3 R = rotation_z(u(0));
+    Vec3 p = Vec3(0, 0, 10) + R * Vec3(6, 0, 0);
+    for (int i = 0; i < k; ++i) {
+      R = R * rotation_x(q(3 * i)) * rotation_y(q(3 * i + 1)) * rotation_z(q(3 * i + 2));
+      p += R * Vec3(0, 0, -links[i].length);
+    }
+    return p;
+  };
+  ref.drives = model_drives(model);
+  return ref;
+}
+
+TEST(MinimumDofModel, DoubleJibPendulumFollowsItsLagrangeEquations) {
+  // examples/minimum_dof/double_jib_pendulum.yaml's hook block and load, slewed by a sine.
+  const std::vector<HangingLink> links{{50, 4, 4, Vec3(2, 2, 1)}, {500, 1.5, 1.5, Vec3(40, 40, 40)}};
+  const Simulation sim = read(jib_chain_yaml(links).c_str());
+  const auto ref = jib_chain_lagrange<14>(links, sim.model);
+  EXPECT_LT(largest_path_difference(sim.model, ref, "l1.bottom", 3.0, 2e-3), 1e-9);
+}
+
+TEST(MinimumDofModel, TripleJibPendulumFollowsItsLagrangeEquations) {
+  // examples/minimum_dof/triple_jib_pendulum.yaml's hook block, spreader bar and load.
+  const std::vector<HangingLink> links{
+      {50, 3, 3, Vec3(2, 2, 1)}, {120, 1, 2, Vec3(15, 15, 5)}, {500, 1, 1, Vec3(40, 40, 40)}};
+  const Simulation sim = read(jib_chain_yaml(links).c_str());
+  const auto ref = jib_chain_lagrange<20>(links, sim.model);
+  EXPECT_LT(largest_path_difference(sim.model, ref, "l2.bottom", 3.0, 2e-3), 1e-9);
 }
 
 TEST(MinimumDofModel, FoldingBoomFollowsItsLagrangeEquations) {
