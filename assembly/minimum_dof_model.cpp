@@ -13,6 +13,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <numeric>
 
 namespace latticedyn {
 
@@ -134,14 +135,20 @@ MinimumDofModel::MinimumDofModel(const Model& model) : model_(model), block_link
   }
   for (Link& L : links_) {
     if (model.constraints[L.constraint].type != ConstraintType::spherical) continue;
-    const Joint& jp = model.joints[L.parent_joint];
-    const Joint& jc = model.joints[L.child_joint];
-    Vec3 pp, pc;
-    Mat3 Rp, Rc;
-    joint_frame(jp, initial[jp.translation_block], jp.rotation_block >= 0 ? &initial[jp.rotation_block] : nullptr, pp, Rp);
-    joint_frame(jc, initial[jc.translation_block], &initial[jc.rotation_block], pc, Rc);
-    L.sphere_reference = Rp.transpose() * Rc;
+    Vec3 d;
+    relative_pose(L, initial, L.sphere_reference, d);
   }
+}
+
+void MinimumDofModel::relative_pose(const Link& L, const std::vector<BlockState>& blocks, Mat3& D, Vec3& d) const {
+  const Joint& jp = model_.joints[L.parent_joint];
+  const Joint& jc = model_.joints[L.child_joint];
+  Vec3 pp, pc;
+  Mat3 Rp, Rc;
+  joint_frame(jp, blocks[jp.translation_block], jp.rotation_block >= 0 ? &blocks[jp.rotation_block] : nullptr, pp, Rp);
+  joint_frame(jc, blocks[jc.translation_block], &blocks[jc.rotation_block], pc, Rc);
+  D = Rp.transpose() * Rc;
+  d = Rp.transpose() * (pc - pp);
 }
 
 template <class S>
@@ -253,17 +260,18 @@ void MinimumDofModel::block_states(double t, const VecX& q, const VecX& qdot, co
   jet_states(Q, Qd, Qdd, out);
 }
 
-void MinimumDofModel::velocity_columns(double t, const VecX& q, std::vector<MatX>& columns) const {
-  const int nf = num_free();
+void MinimumDofModel::velocity_columns(double t, const VecX& q, const std::vector<int>& coordinates,
+                                       std::vector<MatX>& columns) const {
+  const int n = static_cast<int>(coordinates.size());
   columns.assign(model_.blocks.size(), MatX());
   for (std::size_t b = 0; b < model_.blocks.size(); ++b)
-    if (block_link_[b] >= 0) columns[b].setZero(3, nf);
+    if (block_link_[b] >= 0) columns[b].setZero(3, n);
   VecX Q, Qd, Qdd;
-  full_motion(t, q, VecX::Zero(nf), nullptr, Q, Qd, Qdd);
+  full_motion(t, q, VecX::Zero(num_free()), nullptr, Q, Qd, Qdd);
   std::vector<BlockState> s(model_.blocks.size());
-  for (int k = 0; k < nf; ++k) {
+  for (int k = 0; k < n; ++k) {
     VecX unit = VecX::Zero(Q.size());
-    unit(free_[k]) = 1.0;
+    unit(coordinates[k]) = 1.0;
     jet_states(Q, unit, VecX::Zero(Q.size()), s);
     for (std::size_t b = 0; b < model_.blocks.size(); ++b)
       if (block_link_[b] >= 0) columns[b].col(k) = s[b].vel;
@@ -302,7 +310,7 @@ void MinimumDofModel::equations(double t, const VecX& q, const VecX& qdot, MatX&
   std::vector<BlockState> bias;
   block_states(t, q, qdot, nullptr, bias);  // accelerations T_dot q_dot (and the drives' T q_ddot)
   std::vector<MatX> columns;
-  velocity_columns(t, q, columns);
+  velocity_columns(t, q, free_, columns);
   VecX g0;
   generalized_residual(t, bias, columns, g0);
   // The residual is linear in the accelerations: column k of M is the response to q_ddot = e_k.
@@ -340,14 +348,9 @@ void MinimumDofModel::coordinates_from_blocks(double t, const std::vector<BlockS
   const int nf = num_free();
   VecX Q = VecX::Zero(num_coordinates());
   for (const Link& L : links_) {
-    const Joint& jp = model_.joints[L.parent_joint];
-    const Joint& jc = model_.joints[L.child_joint];
-    Vec3 pp, pc;
-    Mat3 Rp, Rc;
-    joint_frame(jp, blocks[jp.translation_block], jp.rotation_block >= 0 ? &blocks[jp.rotation_block] : nullptr, pp, Rp);
-    joint_frame(jc, blocks[jc.translation_block], &blocks[jc.rotation_block], pc, Rc);
-    const Mat3 D = Rp.transpose() * Rc;
-    const Vec3 d = Rp.transpose() * (pc - pp);
+    Mat3 D;
+    Vec3 d;
+    relative_pose(L, blocks, D, d);
     const Constraint& c = model_.constraints[L.constraint];
     const int a = c.axis, p = (a + 1) % 3, s = (a + 2) % 3, k = L.first_coordinate;
     switch (c.type) {
@@ -386,36 +389,19 @@ void MinimumDofModel::coordinates_from_blocks(double t, const std::vector<BlockS
   // coordinates' rates leaves nothing); the free rates are then fitted with the driven ones
   // taken from their drives, which thus prescribe their motion from the start (a drive that
   // starts moving bodies at rest).
-  std::vector<BlockState> driven;
-  block_states(t, q, VecX::Zero(nf), nullptr, driven);
-  std::vector<MatX> columns;
-  velocity_columns(t, q, columns);
-  std::vector<MatX> all_columns;  // every coordinate's columns, driven ones too
-  {
-    VecX Qv, Qd, Qdd;
-    full_motion(t, q, VecX::Zero(nf), nullptr, Qv, Qd, Qdd);
-    std::vector<BlockState> s(model_.blocks.size());
-    all_columns.assign(model_.blocks.size(), MatX());
-    for (std::size_t b = 0; b < model_.blocks.size(); ++b)
-      if (block_link_[b] >= 0) all_columns[b].setZero(3, num_coordinates());
-    for (int k = 0; k < num_coordinates(); ++k) {
-      VecX unit = VecX::Zero(num_coordinates());
-      unit(k) = 1.0;
-      jet_states(Qv, unit, VecX::Zero(num_coordinates()), s);
-      for (std::size_t b = 0; b < model_.blocks.size(); ++b)
-        if (block_link_[b] >= 0) all_columns[b].col(k) = s[b].vel;
-    }
-  }
+  const std::vector<BlockState>& driven = check;  // the drives' motion alone (free rates zero)
+  std::vector<int> every(num_coordinates());
+  std::iota(every.begin(), every.end(), 0);
+  std::vector<MatX> all_columns;  // every coordinate's columns; the free ones are a subset
+  velocity_columns(t, q, every, all_columns);
   const int rows = 6 * static_cast<int>(links_.size()), n = num_coordinates();
-  MatX A = MatX::Zero(rows, nf), Aall = MatX::Zero(rows, n);
+  MatX Aall = MatX::Zero(rows, n);
   VecX rhs = VecX::Zero(rows), given = VecX::Zero(rows);
   double speed = 0.0;
   for (std::size_t i = 0; i < links_.size(); ++i) {
     const int bt = links_[i].translation_block, br = links_[i].rotation_block;
-    A.block(6 * i, 0, 3, nf) = columns[bt];
-    A.block(6 * i + 3, 0, 3, nf) = length_scale_ * columns[br];  // angular rows in m/s at the model's size
     Aall.block(6 * i, 0, 3, n) = all_columns[bt];
-    Aall.block(6 * i + 3, 0, 3, n) = length_scale_ * all_columns[br];
+    Aall.block(6 * i + 3, 0, 3, n) = length_scale_ * all_columns[br];  // angular rows in m/s at the model's size
     given.segment<3>(6 * i) = blocks[bt].vel;
     given.segment<3>(6 * i + 3) = length_scale_ * blocks[br].vel;
     rhs.segment<3>(6 * i) = blocks[bt].vel - driven[bt].vel;
@@ -430,6 +416,7 @@ void MinimumDofModel::coordinates_from_blocks(double t, const std::vector<BlockS
                   "after the best fit of the joint coordinates' rates", t, misfit);
     throw ModelError(buf);
   }
+  const MatX A = Aall(Eigen::all, free_);
   qdot = nf ? VecX(A.colPivHouseholderQr().solve(rhs)) : VecX();
 }
 

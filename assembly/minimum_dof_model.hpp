@@ -75,8 +75,12 @@ class MinimumDofModel {
   /// states whose accelerations are set; `columns` holds each block's T (3 x num_free).
   void generalized_residual(double t, const std::vector<BlockState>& blocks, const std::vector<MatX>& columns,
                             VecX& g) const;
-  /// Each free coordinate's velocity columns of every block: T_b (3 x num_free).
-  void velocity_columns(double t, const VecX& q, std::vector<MatX>& columns) const;
+  /// The velocity columns of every block for the given coordinates (indices among all): T_b
+  /// (3 x coordinates.size()), the velocity a unit rate of each coordinate gives the block.
+  void velocity_columns(double t, const VecX& q, const std::vector<int>& coordinates, std::vector<MatX>& columns) const;
+  /// The child joint's frame relative to the parent joint's: rotation D and offset d (in the
+  /// parent joint's frame), from the blocks' states.
+  void relative_pose(const Link& L, const std::vector<BlockState>& blocks, Mat3& D, Vec3& d) const;
 
   const Model& model_;
   std::vector<Link> links_;                // parents before children

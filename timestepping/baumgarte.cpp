@@ -154,16 +154,9 @@ PetscErrorCode BaumgarteIntegrator::monitor(TS ts, PetscInt step, PetscReal t, V
   }
   PetscCall(self->unpack(X, self->U_, self->V_));
   PetscCall(self->accelerations(t, self->U_, self->V_));  // exact a and lambda at this state
-  PetscReal t_prev, dt;
-  PetscInt rejects;
-  PetscCall(TSGetPrevTime(ts, &t_prev));
-  PetscCall(TSGetTimeStep(ts, &dt));
-  PetscCall(TSGetStepRejections(ts, &rejects));
-  StepInfo info{static_cast<int>(step), t, t - t_prev, self->U_, self->V_, self->A_,
-                Parametrization::velocity_variables, 0, self->rejection_offset_ + rejects};
-  info.checkpoint = self->checkpoints_.due(t, self->report_->interrupted);
-  info.next_time_step = dt;
-  PetscCall(record_step(self->sa_, info, self->report_, self->observer_));
+  StepInfo info;
+  PetscCall(record_runge_kutta_step(self->sa_, ts, step, t, self->U_, self->V_, self->A_, self->rejection_offset_,
+                                    self->checkpoints_, self->report_, self->observer_, &info));
   // First-same-as-last schemes reuse the last stage: from a checkpoint on the scheme starts
   // afresh, in this run as in one continued from it.
   if (info.checkpoint) PetscCall(TSRestartStep(ts));

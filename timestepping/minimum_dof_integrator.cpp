@@ -15,10 +15,28 @@ namespace latticedyn {
 
 namespace {
 
-VecX read_part(const PetscScalar* x, int offset, int n) {
-  VecX v(n);
-  for (int i = 0; i < n; ++i) v(i) = x[offset + i];
-  return v;
+// x = [a; b], each half of the (sequential) vector X.
+PetscErrorCode unpack(Vec X, VecX& a, VecX& b) {
+  PetscInt size;
+  const PetscScalar* x;
+  PetscFunctionBeginUser;
+  PetscCall(VecGetLocalSize(X, &size));
+  const Eigen::Index n = size / 2;
+  PetscCall(VecGetArrayRead(X, &x));
+  a = Eigen::Map<const VecX>(x, n);
+  b = Eigen::Map<const VecX>(x + n, n);
+  PetscCall(VecRestoreArrayRead(X, &x));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode pack(const VecX& a, const VecX& b, Vec X) {
+  PetscScalar* x;
+  PetscFunctionBeginUser;
+  PetscCall(VecGetArray(X, &x));
+  Eigen::Map<VecX>(x, a.size()) = a;
+  Eigen::Map<VecX>(x + a.size(), b.size()) = b;
+  PetscCall(VecRestoreArray(X, &x));
+  PetscFunctionReturn(0);
 }
 
 }  // namespace
@@ -64,14 +82,10 @@ MinimumDofIntegrator::~MinimumDofIntegrator() {
 
 PetscErrorCode MinimumDofIntegrator::rhs(TS ts, PetscReal t, Vec X, Vec Xdot, void* ctx) {
   auto* self = static_cast<MinimumDofIntegrator*>(ctx);
-  const int n = self->mdof_.num_free();
   PetscFunctionBeginUser;
   (void)ts;
-  const PetscScalar* x;
-  PetscScalar* xd;
-  PetscCall(VecGetArrayRead(X, &x));
-  const VecX q = read_part(x, 0, n), qdot = read_part(x, n, n);
-  PetscCall(VecRestoreArrayRead(X, &x));
+  VecX q, qdot;
+  PetscCall(unpack(X, q, qdot));
   // A stage at the end of a segment sees the drives' motion before the breakpoint (its left
   // limit, to 1e-12 s): the phase that starts there belongs to the next segment's steps.
   const double end = self->segment_end_, nudge = 1e-12 * std::max(1.0, std::abs(end));
@@ -80,12 +94,7 @@ PetscErrorCode MinimumDofIntegrator::rhs(TS ts, PetscReal t, Vec X, Vec Xdot, vo
   PetscCallCXX(qddot = self->mdof_.accelerations(t_eval, q, qdot));  // a singular M(q) ends the run, saying where
   PetscCheck(qddot.allFinite(), PETSC_COMM_SELF, PETSC_ERR_FP, "non-finite accelerations of the minimum coordinates at t = %g",
              (double)t);
-  PetscCall(VecGetArray(Xdot, &xd));
-  for (int i = 0; i < n; ++i) {
-    xd[i] = qdot(i);
-    xd[n + i] = qddot(i);
-  }
-  PetscCall(VecRestoreArray(Xdot, &xd));
+  PetscCall(pack(qdot, qddot, Xdot));
   PetscFunctionReturn(0);
 }
 
@@ -115,14 +124,7 @@ PetscErrorCode MinimumDofIntegrator::coordinates_of(double t, Vec U, Vec V, Para
   PetscCall(blocks_of(U, V, param, blocks));
   VecX q, qdot;
   PetscCallCXX(mdof_.coordinates_from_blocks(t, blocks, q, qdot));
-  PetscScalar* x;
-  const int n = mdof_.num_free();
-  PetscCall(VecGetArray(X, &x));
-  for (int i = 0; i < n; ++i) {
-    x[i] = q(i);
-    x[n + i] = qdot(i);
-  }
-  PetscCall(VecRestoreArray(X, &x));
+  PetscCall(pack(q, qdot, X));
   PetscFunctionReturn(0);
 }
 
@@ -190,27 +192,17 @@ PetscErrorCode MinimumDofIntegrator::monitor(TS ts, PetscInt step, PetscReal t, 
     self->resumed_step_ = false;
     PetscFunctionReturn(0);
   }
-  const int n = self->mdof_.num_free();
-  const PetscScalar* x;
-  PetscCall(VecGetArrayRead(X, &x));
-  const VecX q = read_part(x, 0, n), qdot = read_part(x, n, n);
-  PetscCall(VecRestoreArrayRead(X, &x));
+  VecX q, qdot;
+  PetscCall(unpack(X, q, qdot));
   VecX qddot;
   PetscCallCXX(qddot = self->mdof_.accelerations(t, q, qdot));
   std::vector<BlockState> blocks;
   self->mdof_.block_states(t, q, qdot, &qddot, blocks);
   PetscCall(self->set_vectors(blocks));
   PetscCall(self->solve_multipliers(t));
-  PetscReal t_prev, dt;
-  PetscInt rejects;
-  PetscCall(TSGetPrevTime(ts, &t_prev));
-  PetscCall(TSGetTimeStep(ts, &dt));
-  PetscCall(TSGetStepRejections(ts, &rejects));
-  StepInfo info{static_cast<int>(step), t, t - t_prev, self->U_, self->V_, self->A_,
-                Parametrization::velocity_variables, 0, self->rejection_offset_ + rejects};
-  info.checkpoint = self->checkpoints_.due(t, self->report_->interrupted);
-  info.next_time_step = dt;
-  PetscCall(record_step(self->sa_, info, self->report_, self->observer_));
+  StepInfo info;
+  PetscCall(record_runge_kutta_step(self->sa_, ts, step, t, self->U_, self->V_, self->A_, self->rejection_offset_,
+                                    self->checkpoints_, self->report_, self->observer_, &info));
   if (self->report_->interrupted) PetscCall(TSSetConvergedReason(ts, TS_CONVERGED_USER));
   if (info.checkpoint) {
     // Continue from the recorded state, as a run resumed from this checkpoint does: the
@@ -274,11 +266,8 @@ PetscErrorCode MinimumDofIntegrator::run(Vec U, Vec V, StepObserver* observer, D
   PetscCall(TSGetConvergedReason(ts_, &reason));
   PetscCall(TSGetTime(ts_, &t));
   {  // the state reached, back in the multibody coordinates (rotation-vector rates at the interface)
-    const int n = mdof_.num_free();
-    const PetscScalar* x;
-    PetscCall(VecGetArrayRead(X_, &x));
-    const VecX q = read_part(x, 0, n), qdot = read_part(x, n, n);
-    PetscCall(VecRestoreArrayRead(X_, &x));
+    VecX q, qdot;
+    PetscCall(unpack(X_, q, qdot));
     std::vector<BlockState> blocks;
     mdof_.block_states(t, q, qdot, nullptr, blocks);
     PetscCall(set_vectors(blocks));

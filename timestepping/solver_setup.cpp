@@ -325,6 +325,23 @@ PetscErrorCode record_step(SystemAssembler& sa, const StepInfo& info, DynamicRep
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode record_runge_kutta_step(SystemAssembler& sa, TS ts, PetscInt step, PetscReal t, Vec U, Vec V, Vec A,
+                                       long rejection_offset, CheckpointSchedule& checkpoints, DynamicReport* report,
+                                       StepObserver* observer, StepInfo* info) {
+  PetscReal t_prev, dt;
+  PetscInt rejects;
+  PetscFunctionBeginUser;
+  PetscCall(TSGetPrevTime(ts, &t_prev));
+  PetscCall(TSGetTimeStep(ts, &dt));
+  PetscCall(TSGetStepRejections(ts, &rejects));
+  *info = StepInfo{static_cast<int>(step), t, t - t_prev, U, V, A, Parametrization::velocity_variables, 0,
+                   rejection_offset + rejects};
+  info->checkpoint = checkpoints.due(t, report->interrupted);
+  info->next_time_step = dt;
+  PetscCall(record_step(sa, *info, report, observer));
+  PetscFunctionReturn(0);
+}
+
 CheckpointSchedule::CheckpointSchedule(double interval, double t_start, double t_end, bool end_is_checkpoint)
     : interval_(interval), t_end_(t_end), next_(next_after(t_start)), end_is_checkpoint_(end_is_checkpoint) {}
 

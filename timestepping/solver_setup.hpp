@@ -120,6 +120,13 @@ class CheckpointSchedule {
 /// interrupted when the observer asks to stop. Collective.
 PetscErrorCode record_step(SystemAssembler& sa, const StepInfo& info, DynamicReport* report, StepObserver* observer);
 
+/// record_step for the explicit Runge-Kutta routes (Baumgarte, minimum-DoF) from their TS monitor:
+/// the step's size, the rejections so far (plus those before a resume), whether a checkpoint is
+/// due, the next step size, with U, V, A in velocity variables. `info` gets what was recorded.
+PetscErrorCode record_runge_kutta_step(SystemAssembler& sa, TS ts, PetscInt step, PetscReal t, Vec U, Vec V, Vec A,
+                                       long rejection_offset, CheckpointSchedule& checkpoints, DynamicReport* report,
+                                       StepObserver* observer, StepInfo* info);
+
 /// After TSSolve of a Newton-based integrator: the report's time reached, whether it completed,
 /// and its message: "reached t = ...", interrupted, or what failed (TS and Newton reasons, the
 /// last residual, the largest constraint violation at U, the element outside its domain).
