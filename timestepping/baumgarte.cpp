@@ -17,12 +17,7 @@ BaumgarteIntegrator::BaumgarteIntegrator(SystemAssembler& sa, DynamicSettings se
   for (Vec* v : {&U_, &V_, &A_, &b_, &y_, &Ulam0_}) PetscCallAbort(comm, sa_.create_vector(v));
   PetscCallAbort(comm, VecCreateMPI(comm, 2 * sa_.dofs().owned_size(), 2 * sa_.dofs().global_size(), &X_));
   PetscCallAbort(comm, sa_.create_matrix(&S_));
-  const int lo = sa_.dofs().owned_begin();
-  for (std::size_t c = 0; c < sa_.model().constraints.size(); ++c) {
-    const int g = sa_.dofs().multiplier_dof(static_cast<int>(c));
-    if (g < lo || g >= sa_.dofs().owned_end()) continue;
-    for (int i = 0; i < sa_.model().constraints[c].rows(); ++i) multipliers_.push_back(g - lo + i);
-  }
+  multipliers_ = owned_multiplier_rows(sa_);
 
   PetscCallAbort(comm, KSPCreate(comm, &ksp_));
   PetscCallAbort(comm, set_direct_solver_defaults(ksp_));

@@ -45,12 +45,7 @@ ImplicitRungeKuttaIntegrator::ImplicitRungeKuttaIntegrator(SystemAssembler& sa, 
   PetscCallAbort(comm, VecGetOwnershipRange(X_, &lo, nullptr));
   PetscCallAbort(comm, ISCreateStride(comm, n, lo, 1, &is_u_));
   PetscCallAbort(comm, ISCreateStride(comm, n, lo + n, 1, &is_v_));
-  const int first = sa_.dofs().owned_begin();
-  for (std::size_t c = 0; c < sa_.model().constraints.size(); ++c) {
-    const int g = sa_.dofs().multiplier_dof(static_cast<int>(c));
-    if (g < first || g >= sa_.dofs().owned_end()) continue;
-    for (int i = 0; i < sa_.model().constraints[c].rows(); ++i) multipliers_.push_back(g - first + i);
-  }
+  multipliers_ = owned_multiplier_rows(sa_);
 
   // The reduced matrix and its own direct solver: PETSc's LU in the saddle-point ordering on one
   // rank (as for generalized-alpha), MUMPS on several; -dyn_irk_pc_type and the like change it.

@@ -48,12 +48,7 @@ MinimumDofIntegrator::MinimumDofIntegrator(SystemAssembler& sa, DynamicSettings 
   for (Vec* v : {&U_, &V_, &A_, &b_, &y_}) PetscCallAbort(comm, sa_.create_vector(v));
   PetscCallAbort(comm, VecCreateSeq(PETSC_COMM_SELF, 2 * mdof_.num_free(), &X_));
   PetscCallAbort(comm, sa_.create_matrix(&S_));
-  const int lo = sa_.dofs().owned_begin();
-  for (std::size_t c = 0; c < sa_.model().constraints.size(); ++c) {
-    const int g = sa_.dofs().multiplier_dof(static_cast<int>(c));
-    if (g < lo || g >= sa_.dofs().owned_end()) continue;
-    for (int i = 0; i < sa_.model().constraints[c].rows(); ++i) multipliers_.push_back(g - lo + i);
-  }
+  multipliers_ = owned_multiplier_rows(sa_);
   int offset = 0;
   for (const DofBlock& blk : sa_.model().blocks) {
     model_offset_.push_back(blk.fixed ? -1 : offset);

@@ -40,6 +40,17 @@ PetscErrorCode set_direct_solver_defaults(KSP ksp) {
   PetscFunctionReturn(0);
 }
 
+std::vector<PetscInt> owned_multiplier_rows(const SystemAssembler& sa) {
+  std::vector<PetscInt> rows;
+  const int lo = sa.dofs().owned_begin(), hi = sa.dofs().owned_end();
+  for (std::size_t c = 0; c < sa.model().constraints.size(); ++c) {
+    const int g = sa.dofs().multiplier_dof(static_cast<int>(c));
+    if (g < lo || g >= hi) continue;  // a constraint's rows are all on the rank of its first
+    for (int i = 0; i < sa.model().constraints[c].rows(); ++i) rows.push_back(g - lo + i);
+  }
+  return rows;
+}
+
 PetscErrorCode fill_by_row_kind(const SystemAssembler& sa, double coordinate, double multiplier, Vec v) {
   PetscFunctionBeginUser;
   PetscCall(VecSet(v, coordinate));

@@ -9,6 +9,7 @@
 #include <petscts.h>
 
 #include <string>
+#include <vector>
 
 namespace latticedyn {
 
@@ -40,6 +41,9 @@ bool has_first_order_blocks(const Model& model);
 /// alone, r = c p_dot + f(U, V), so p_dot = -f / c from two residual evaluations. A run starts
 /// with them (a pressure's rate is not an initial condition). Collective; nothing without such DoFs.
 PetscErrorCode consistent_first_order_rates(SystemAssembler& sa, double t, Vec U, Vec V);
+
+/// The rank's own multiplier rows, as offsets into its part of a vector of the assembler's layout.
+std::vector<PetscInt> owned_multiplier_rows(const SystemAssembler& sa);
 
 /// v = `coordinate` on the rows of coordinates, `multiplier` on the constraints' multiplier rows
 /// (v created by the assembler). Collective.
