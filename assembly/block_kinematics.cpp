@@ -26,7 +26,8 @@ void block_kinematics(const DofBlock& block, const double* u, const double* v, c
   if (block.fixed || !u) {
     s.pos = block.position0;
     s.rot = block.orientation0;
-    s.vel.setZero();
+    if (block.held) s.vel = block.velocity0;
+    else s.vel.setZero();
     s.acc.setZero();
     return;
   }

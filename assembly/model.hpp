@@ -28,19 +28,22 @@ struct DofBlock {
   /// Its equations are first order in it (a hydraulic pressure): the rate is not an initial
   /// condition but follows from the state (consistent_first_order_rates).
   bool first_order = false;
+  /// Fixed, yet moving at velocity0 (in the slot's velocity variables): another solver's state held
+  /// over a coupling step (a co-simulation partner's motion). Other fixed blocks are at rest.
+  bool held = false;
   int size() const { return slot_size(kind); }
 
   static DofBlock translation(const Vec3& position, const Vec3& velocity, std::string label, bool fixed = false) {
-    return DofBlock{SlotKind::translation, fixed, position, Mat3::Identity(), velocity, std::move(label), false};
+    return DofBlock{SlotKind::translation, fixed, position, Mat3::Identity(), velocity, std::move(label), false, false};
   }
   static DofBlock vector(const Vec3& value, const Vec3& rate, std::string label, bool fixed = false) {
-    return DofBlock{SlotKind::vector, fixed, value, Mat3::Identity(), rate, std::move(label), false};
+    return DofBlock{SlotKind::vector, fixed, value, Mat3::Identity(), rate, std::move(label), false, false};
   }
   static DofBlock scalar(double value, double rate, std::string label, bool fixed = false) {
-    return DofBlock{SlotKind::scalar, fixed, Vec3(value, 0, 0), Mat3::Identity(), Vec3(rate, 0, 0), std::move(label), false};
+    return DofBlock{SlotKind::scalar, fixed, Vec3(value, 0, 0), Mat3::Identity(), Vec3(rate, 0, 0), std::move(label), false, false};
   }
   static DofBlock rotation(const Mat3& orientation, const Vec3& omega, std::string label, bool fixed = false) {
-    return DofBlock{SlotKind::rotation, fixed, Vec3::Zero(), orientation, omega, std::move(label), false};
+    return DofBlock{SlotKind::rotation, fixed, Vec3::Zero(), orientation, omega, std::move(label), false, false};
   }
 };
 

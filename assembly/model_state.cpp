@@ -74,6 +74,7 @@ ElementEnergy ModelState::energy() const {
     total.kinetic += x.kinetic;
     total.gravity_potential += x.gravity_potential;
     total.strain += x.strain;
+    total.fluid += x.fluid;
   }
   return total;
 }

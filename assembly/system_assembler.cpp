@@ -77,6 +77,14 @@ SystemAssembler::SystemAssembler(const Model& model, MPI_Comm comm)
   estimate_scales();
 }
 
+void SystemAssembler::refresh_held_blocks() {
+  for (std::size_t b = 0; b < model_.blocks.size(); ++b) {
+    if (!model_.blocks[b].fixed || !model_.blocks[b].held) continue;
+    block_kinematics(model_.blocks[b], nullptr, nullptr, nullptr, Parametrization::rotation_vector_rates, local_.state[b]);
+    local_.state_c[b] = local_.state[b];
+  }
+}
+
 SystemAssembler::~SystemAssembler() {
   VecScatterDestroy(&to_local_);
   VecScatterDestroy(&to_root_);

@@ -38,6 +38,9 @@ class SystemAssembler {
   const DofMap& dofs() const { return dofs_; }
   MPI_Comm comm() const { return comm_; }
 
+  /// Takes up new values of the held blocks (DofBlock::held: fixed, moving at velocity0), whose
+  /// state is otherwise set once, like every fixed block's. Call after changing them in the model.
+  void refresh_held_blocks();
   PetscErrorCode create_vector(Vec* v) const;
   /// AIJ matrix with the exact nonzero pattern; inserting outside it is an error. With
   /// block_size > 1 (only where uniform_blocks(block_size)), a BAIJ matrix of that block size: its

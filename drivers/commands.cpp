@@ -334,6 +334,15 @@ int command_solve(Simulation& sim, const CommandOptions& opt, MPI_Comm comm, boo
       error_root(comm, r.message);
     text += buf;
     if (!r.linear_solver.empty()) text += "linear solver: " + r.linear_solver + "\n";
+    if (const EnergyAccount* a = out.energy_account()) {
+      std::snprintf(buf, sizeof buf,
+                    "energy account: supplied %.6g J = mechanical energy change %.6g J + dissipated %.6g J + into oil "
+                    "compression %.6g J (oil energy change %.6g J) + imbalance %.3g J (%.2e of the largest term: "
+                    "drives, loads, mechanical and numerical damping, time integration)\n",
+                    a->supplied, a->mechanical_change, a->dissipated, a->compression, a->fluid_change, a->imbalance(),
+                    a->relative_imbalance());
+      text += buf;
+    }
   }
   if (writer)
     if (const std::optional<MemberPeak> peak = writer->member_peak())

@@ -18,7 +18,23 @@ OutputObserver::OutputObserver(SystemAssembler& sa, ResultWriter* writer, double
       state_(sa.model(), sa.dofs()),
       interval_(interval),
       t_end_(t_end),
-      integrator_(std::move(integrator)) {}
+      integrator_(std::move(integrator)) {
+  if (EnergyLedger::applies(sa.model())) ledger_.emplace(sa.model());
+}
+
+const EnergyAccount* OutputObserver::energy_account() const {
+  return ledger_ && ledger_->started() ? &ledger_->account() : nullptr;
+}
+
+PetscErrorCode OutputObserver::record_energy(double t, Vec U, Vec V, Vec A, Parametrization param) {
+  PetscFunctionBeginUser;
+  PetscCall(sa_.gather(t, U, V, A, param, &state_));
+  if (sa_.dofs().rank() == 0 && (!ledger_->started() || t > ledger_->account().time)) {
+    PetscCallCXX(ledger_->record(state_));
+    if (writer_) writer_->set_energy_account(ledger_->account());
+  }
+  PetscFunctionReturn(0);
+}
 
 void OutputObserver::resume(const Checkpoint& c) {
   written_ = static_cast<int>(c.outputs_written);
@@ -56,10 +72,10 @@ PetscErrorCode OutputObserver::write_checkpoint(const StepInfo& info) {
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode OutputObserver::write(double t, Vec U, Vec V, Vec A, Parametrization param) {
+PetscErrorCode OutputObserver::write(double t, Vec U, Vec V, Vec A, Parametrization param, bool gathered) {
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(log_events().output, 0, 0, 0, 0));
-  PetscCall(sa_.gather(t, U, V, A, param, &state_));
+  if (!gathered) PetscCall(sa_.gather(t, U, V, A, param, &state_));
   if (writer_) PetscCallCXX(writer_->append(state_));
   PetscCall(PetscLogEventEnd(log_events().output, 0, 0, 0, 0));
   last_written_ = t;
@@ -73,8 +89,9 @@ PetscErrorCode OutputObserver::on_step(const StepInfo& info) {
   const bool first = written_ == 0;
   const bool due = info.time >= next_ - eps;
   const bool last = info.time >= t_end_ - eps;
+  if (ledger_) PetscCall(record_energy(info.time, info.U, info.V, info.A, info.param));
   if (first || due || last) {
-    PetscCall(write(info.time, info.U, info.V, info.A, info.param));
+    PetscCall(write(info.time, info.U, info.V, info.A, info.param, ledger_.has_value()));
     if (interval_ > 0) {
       // Next multiple of the interval after this time, so outputs stay on a regular grid.
       next_ = (std::floor((info.time + eps) / interval_) + 1) * interval_;
@@ -86,7 +103,9 @@ PetscErrorCode OutputObserver::on_step(const StepInfo& info) {
 
 PetscErrorCode OutputObserver::finish(double t, Vec U, Vec V, Parametrization param) {
   PetscFunctionBeginUser;
-  if (t != last_written_) PetscCall(write(t, U, V, nullptr, param));
+  if (t == last_written_) PetscFunctionReturn(0);
+  if (ledger_) PetscCall(record_energy(t, U, V, nullptr, param));
+  PetscCall(write(t, U, V, nullptr, param, ledger_.has_value()));
   PetscFunctionReturn(0);
 }
 

@@ -8,6 +8,7 @@
 
 #include <chrono>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -15,7 +16,8 @@ namespace latticedyn {
 
 /// Gathers the state to rank 0 and appends it to the results every `interval` simulated
 /// seconds (every step for 0), always including the first and the last state; writes a
-/// checkpoint where the integrator marks one (StepInfo::checkpoint).
+/// checkpoint where the integrator marks one (StepInfo::checkpoint). With a hydraulic circuit it
+/// keeps the run's energy account, recording every step (the works are integrals over the steps).
 class OutputObserver final : public StepObserver {
  public:
   OutputObserver(SystemAssembler& sa, ResultWriter* writer_on_root, double interval, double t_end,
@@ -26,17 +28,24 @@ class OutputObserver final : public StepObserver {
   /// Goes on with the output schedule of a checkpoint whose results file the writer continues.
   void resume(const Checkpoint& c);
   int written() const { return written_; }
+  /// The energy account on rank 0 (models with a hydraulic circuit), none otherwise. A restarted
+  /// run's account starts at its checkpoint.
+  const EnergyAccount* energy_account() const;
   /// Checkpoints written in this run, and the step and time of the last (-1 for none).
   int checkpoints() const { return checkpoints_; }
   long last_checkpoint_step() const { return checkpoint_step_; }
   double last_checkpoint_time() const { return checkpoint_time_; }
 
  private:
-  PetscErrorCode write(double t, Vec U, Vec V, Vec A, Parametrization param);
+  /// Gathers the state (unless `gathered`: it is in state_) and appends it.
+  PetscErrorCode write(double t, Vec U, Vec V, Vec A, Parametrization param, bool gathered = false);
+  /// Gathers the state into state_ and adds it to the energy account.
+  PetscErrorCode record_energy(double t, Vec U, Vec V, Vec A, Parametrization param);
   PetscErrorCode write_checkpoint(const StepInfo& info);
   SystemAssembler& sa_;
   ResultWriter* writer_;
   ModelState state_;
+  std::optional<EnergyLedger> ledger_;
   double interval_, t_end_;
   double next_ = 0.0, last_written_ = -1e300;
   int written_ = 0;

@@ -3,6 +3,7 @@
 
 #include "timestepping/baumgarte.hpp"
 #include "timestepping/implicit_runge_kutta.hpp"
+#include "timestepping/hydraulic_cosimulation.hpp"
 #include "timestepping/minimum_dof_integrator.hpp"
 #include "timestepping/generalized_alpha.hpp"
 #include "timestepping/static_solver.hpp"
@@ -63,6 +64,11 @@ PetscErrorCode simulate(Simulation& sim, SystemAssembler& sa, Vec U, Vec V, bool
     } else if (sim.dynamics.integrator == IntegratorKind::minimum_dof) {
       MinimumDofIntegrator integrator(sa, sim.dynamics);
       PetscCall(integrator.run(U, V, observer, &outcome->dynamics, resume));
+    } else if (sim.dynamics.hydraulic_cosimulation) {
+      HydraulicCosimulation cosimulation(sa, sim.dynamics);
+      PetscCheck(!resume, sa.comm(), PETSC_ERR_SUP,
+                 "a hydraulic co-simulation cannot continue a checkpoint: run it from the start");
+      PetscCall(cosimulation.run(U, V, observer, &outcome->dynamics));
     } else if (sim.dynamics.integrator == IntegratorKind::implicit_rk) {
       ImplicitRungeKuttaIntegrator integrator(sa, sim.dynamics);
       PetscCall(integrator.run(U, V, observer, &outcome->dynamics, resume));

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <optional>
 #include <span>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -49,6 +50,17 @@ struct ElementEnergy {
   double kinetic = 0.0;
   double gravity_potential = 0.0;  ///< -integral of rho g . r over the element
   double strain = 0.0;             ///< elastic energy plus any acceleration-like stored energy
+  double fluid = 0.0;              ///< compressed oil of hydraulic volumes, V p^2 / (2 beta)
+};
+
+/// Power an element exchanges at a state (W), for a run's energy account (EnergyLedger).
+struct ElementPower {
+  double supplied = 0.0;     ///< brought in from outside the model (a pump's p Q)
+  double dissipated = 0.0;   ///< turned into heat (throttling, friction, leakage, end stop damping)
+  /// Flowing into compressed oil: p V p_dot / beta over the element's volumes. Integrated over a
+  /// run it is the oil's energy change only to O(p / beta): the pressure build-up equation
+  /// treats V / beta as constant in the compression term.
+  double compression = 0.0;
 };
 
 /// What the results record of an element at one output time.
@@ -115,6 +127,18 @@ class Element {
                                             const ElementContext& /*ctx*/) const {
     return std::nullopt;
   }
+  /// Power the element exchanges with the outside, heat and compressed oil (hydraulic elements).
+  /// None by default: inertia, gravity and elasticity only store energy, which energy() counts;
+  /// mechanical damping and drives are not itemized (they show as a ledger's imbalance).
+  virtual ElementPower power(std::span<const SlotState<double>> /*state*/, const ElementContext& /*ctx*/) const {
+    return {};
+  }
+  /// Names of the volume flows the element passes, for the results' flow columns; none by default.
+  virtual std::span<const std::string> flow_names() const { return {}; }
+  /// The flows named by flow_names() at a state (m^3/s, in their order) into `out`, which has
+  /// their size.
+  virtual void flows(std::span<const SlotState<double>> /*state*/, const ElementContext& /*ctx*/,
+                     std::span<double> /*out*/) const {}
   /// Points along the element's axis for drawing it as a polyline; rigid bodies return none
   /// (they are drawn through their joints).
   virtual std::vector<Vec3> axis_points(std::span<const SlotState<double>> state, const ElementContext& ctx) const;

@@ -14,8 +14,14 @@ HydraulicVolume::HydraulicVolume(double volume, const HydraulicFluid& fluid)
 
 ElementEnergy HydraulicVolume::energy(std::span<const SlotState<double>> s, const ElementContext&) const {
   ElementEnergy e;
-  e.strain = volume_ * s[0].pos(0) * s[0].pos(0) / (2 * bulk_modulus_);
+  e.fluid = volume_ * s[0].pos(0) * s[0].pos(0) / (2 * bulk_modulus_);
   return e;
+}
+
+ElementPower HydraulicVolume::power(std::span<const SlotState<double>> s, const ElementContext&) const {
+  ElementPower out;
+  out.compression = s[0].pos(0) * volume_ * s[0].vel(0) / bulk_modulus_;
+  return out;
 }
 
 HydraulicPump::HydraulicPump(double flow, std::optional<Drive> drive) : flow_(flow), drive_(std::move(drive)) {

@@ -7,6 +7,7 @@
 #include "elements/hydraulic_fluid.hpp"
 
 #include <optional>
+#include <string>
 
 namespace latticedyn {
 
@@ -19,7 +20,10 @@ class HydraulicVolume final : public AutoDiffElement<HydraulicVolume, 1> {
   HydraulicVolume(double volume, const HydraulicFluid& fluid);
 
   std::string_view type_name() const override { return "hydraulic_volume"; }
+  /// The node's oil, V p^2 / (2 beta).
   ElementEnergy energy(std::span<const SlotState<double>> state, const ElementContext&) const override;
+  /// Compression p V p_dot / beta (exactly the rate of its energy: V is fixed).
+  ElementPower power(std::span<const SlotState<double>> state, const ElementContext&) const override;
   std::vector<Vec3> axis_points(std::span<const SlotState<double>>, const ElementContext&) const override { return {}; }
   double volume() const { return volume_; }
 
@@ -42,6 +46,16 @@ class HydraulicPump final : public AutoDiffElement<HydraulicPump, 1> {
 
   std::string_view type_name() const override { return "hydraulic_pump"; }
   ElementEnergy energy(std::span<const SlotState<double>>, const ElementContext&) const override { return {}; }
+  /// Supplies p Q, p its outlet's pressure.
+  ElementPower power(std::span<const SlotState<double>> state, const ElementContext& ctx) const override {
+    ElementPower out;
+    out.supplied = state[0].pos(0) * flow(ctx.time);
+    return out;
+  }
+  std::span<const std::string> flow_names() const override { return kFlowNames; }
+  void flows(std::span<const SlotState<double>>, const ElementContext& ctx, std::span<double> out) const override {
+    out[0] = flow(ctx.time);
+  }
   std::vector<Vec3> axis_points(std::span<const SlotState<double>>, const ElementContext&) const override { return {}; }
   /// The delivered flow at time t, m^3/s.
   double flow(double t) const { return drive_ ? flow_ * drive_->evaluate(t).value : flow_; }
@@ -52,6 +66,7 @@ class HydraulicPump final : public AutoDiffElement<HydraulicPump, 1> {
   }
 
  private:
+  inline static const std::array<std::string, 1> kFlowNames = {"Q"};
   double flow_;
   std::optional<Drive> drive_;
 };

@@ -19,6 +19,12 @@ void HydraulicOrificeProperties::validate() const {
 
 HydraulicOrifice::HydraulicOrifice(HydraulicOrificeProperties p) : props_(std::move(p)) { props_.validate(); }
 
+ElementPower HydraulicOrifice::power(std::span<const SlotState<double>> s, const ElementContext& ctx) const {
+  ElementPower out;
+  out.dissipated = (s[0].pos(0) - s[1].pos(0)) * flow(s[0].pos(0), s[1].pos(0), ctx.time);
+  return out;
+}
+
 double HydraulicOrifice::flow(double p1, double p2, double t) const {
   std::array<SlotState<double>, 2> s;
   s[0].pos(0) = p1;

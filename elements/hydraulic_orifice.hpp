@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <optional>
+#include <string>
 
 namespace latticedyn {
 
@@ -30,6 +31,7 @@ struct HydraulicOrificeProperties {
   double cracking_pressure = 0.0;       ///< Pa, relief
   double full_open_pressure = 0.0;      ///< Pa, relief, above cracking
   HydraulicFluid fluid;
+  std::string flow_name = "Q";          ///< its flow column (a reversing valve's four: Q_PA, ...)
   void validate() const;
 };
 
@@ -47,6 +49,14 @@ class HydraulicOrifice final : public AutoDiffElement<HydraulicOrifice, 2> {
   std::string_view type_name() const override { return "hydraulic_orifice"; }
   ElementEnergy energy(std::span<const SlotState<double>>, const ElementContext&) const override { return {}; }
   std::vector<Vec3> axis_points(std::span<const SlotState<double>>, const ElementContext&) const override { return {}; }
+
+  /// Throttling turns dp Q into heat.
+  ElementPower power(std::span<const SlotState<double>> state, const ElementContext& ctx) const override;
+  std::span<const std::string> flow_names() const override { return {&props_.flow_name, 1}; }
+  /// Q from node 1 to node 2.
+  void flows(std::span<const SlotState<double>> state, const ElementContext& ctx, std::span<double> out) const override {
+    out[0] = flow(state[0].pos(0), state[1].pos(0), ctx.time);
+  }
 
   const HydraulicOrificeProperties& properties() const { return props_; }
   /// Q from node 1 to node 2 at pressures p1, p2 and time t, m^3/s.

@@ -110,12 +110,15 @@ void read_hydraulic_elements(ReaderContext& ctx, const InputNode& h) {
         p.drive = ctx.builder.peek().drives[ctx.drive(n["spool"])];
         const int body = add_hydraulic_body(ctx, n["name"], "directional_valve");
         // u > 0: P -> A and B -> T; u < 0: P -> B and A -> T.
-        p.opening = OrificeOpening::spool_positive;
-        ctx.builder.add_element(body, std::make_shared<HydraulicOrifice>(p), {{P}, {A}});
-        ctx.builder.add_element(body, std::make_shared<HydraulicOrifice>(p), {{B}, {T}});
-        p.opening = OrificeOpening::spool_negative;
-        ctx.builder.add_element(body, std::make_shared<HydraulicOrifice>(p), {{P}, {B}});
-        ctx.builder.add_element(body, std::make_shared<HydraulicOrifice>(p), {{A}, {T}});
+        auto path = [&](OrificeOpening opening, const char* name, int from, int to) {
+          p.opening = opening;
+          p.flow_name = name;
+          ctx.builder.add_element(body, std::make_shared<HydraulicOrifice>(p), {{from}, {to}});
+        };
+        path(OrificeOpening::spool_positive, "Q_PA", P, A);
+        path(OrificeOpening::spool_positive, "Q_BT", B, T);
+        path(OrificeOpening::spool_negative, "Q_PB", P, B);
+        path(OrificeOpening::spool_negative, "Q_AT", A, T);
       }
     } catch (const std::invalid_argument& e) {
       n.fail(e.what());
@@ -126,7 +129,7 @@ void read_hydraulic_elements(ReaderContext& ctx, const InputNode& h) {
 void read_hydraulic_cylinder(ReaderContext& ctx, const InputNode& n, const std::string& name) {
   n.allow_only({"name", "type", "ends", "velocities", "ports", "piston_diameter", "rod_diameter", "stroke",
                 "retracted_length", "dead_volumes", "viscous_friction", "coulomb_friction", "friction_velocity",
-                "leakage", "mass"});
+                "leakage", "mass", "end_stop_stiffness", "end_stop_damping"});
   HydraulicCylinderProperties p;
   p.piston_diameter = n["piston_diameter"].as_positive();
   p.rod_diameter = n["rod_diameter"].as_positive();
@@ -142,6 +145,8 @@ void read_hydraulic_cylinder(ReaderContext& ctx, const InputNode& n, const std::
   p.friction_velocity = n.get_positive("friction_velocity", p.friction_velocity);
   p.leakage = n.get_non_negative("leakage", 0.0);
   p.mass = n.get_non_negative("mass", 0.0);
+  p.end_stop_stiffness = n.get_positive("end_stop_stiffness", 0.0);
+  p.end_stop_damping = n.get_non_negative("end_stop_damping", 0.0);
   p.fluid = ctx.fluid;
   const InputNode ends = n["ends"];
   const auto e = ends.items();

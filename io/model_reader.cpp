@@ -170,7 +170,8 @@ void read_solver(const InputNode& n, Simulation& sim) {
   }
   if (auto d = n.get("dynamics")) {
     d->allow_only({"integrator", "t_start", "t_end", "time_step", "rho_infinity", "adaptive", "rtol", "atol", "max_steps",
-                   "baumgarte_alpha", "baumgarte_beta", "rk_type", "implicit_method", "jacobian_reuse", "newton_tolerance"});
+                   "baumgarte_alpha", "baumgarte_beta", "rk_type", "implicit_method", "jacobian_reuse", "newton_tolerance",
+                   "hydraulic_coupling", "coupling_step"});
     sim.run_dynamics = true;
     DynamicSettings& dy = sim.dynamics;
     if (auto k = d->get("integrator")) {
@@ -208,6 +209,14 @@ void read_solver(const InputNode& n, Simulation& sim) {
     if (auto k = d->get("newton_tolerance")) {
       dy.newton_tolerance = k->as_positive();
       if (dy.newton_tolerance >= 1e-2) k->fail("expected a small positive fraction of the model's load, below 1e-2");
+    }
+    if (auto k = d->get("hydraulic_coupling"))
+      dy.hydraulic_cosimulation = k->as_choice({"monolithic", "cosimulation"}) == "cosimulation";
+    if (auto k = d->get("coupling_step")) {
+      if (!dy.hydraulic_cosimulation) k->fail("coupling_step belongs to hydraulic_coupling: cosimulation");
+      dy.coupling_step = k->as_positive();
+      if (dy.coupling_step < dy.time_step * (1 - 1e-12))
+        k->fail("expected at least the time step (" + std::to_string(dy.time_step) + " s): each part takes its steps within a coupling step");
     }
     dy.baumgarte_alpha = d->get_non_negative("baumgarte_alpha", dy.baumgarte_alpha);
     dy.baumgarte_beta = d->get_non_negative("baumgarte_beta", dy.baumgarte_beta);
@@ -335,6 +344,13 @@ Simulation read(const InputNode& root, const std::string& source) {
                                          sim.dynamics.integrator == IntegratorKind::minimum_dof))
     root["solver"]["dynamics"]["integrator"].fail("a hydraulic circuit needs generalized_alpha or implicit_rk (its "
                                                   "pressures have no mass to solve the accelerations for)");
+  if (sim.run_dynamics && sim.dynamics.hydraulic_cosimulation) {
+    const InputNode coupling = root["solver"]["dynamics"]["hydraulic_coupling"];
+    if (!hydraulics) coupling.fail("cosimulation couples a hydraulic circuit to its mechanism: the model has no 'hydraulics'");
+    if (sim.dynamics.integrator != IntegratorKind::generalized_alpha)
+      coupling.fail("cosimulation steps both parts with generalized_alpha (drop the integrator key)");
+    if (sim.dynamics.adaptive) coupling.fail("cosimulation takes fixed coupling steps: adaptive steps are not offered");
+  }
   if (auto o = root.get("output")) read_output(ctx, *o, sim);
   check_rest_lengths(ctx, sim);
 

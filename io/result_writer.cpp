@@ -10,6 +10,7 @@
 #include "io/xdmf.hpp"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cerrno>
 #include <cstdio>
@@ -105,6 +106,22 @@ struct ResultWriter::Impl {
   void flush(bool final = false);
   /// Free hydraulic nodes (their pressures go into the probe CSV).
   std::vector<int> pressure_blocks() const;
+  /// The flows of the elements that pass any (valves, pumps, cylinders), each as its element and
+  /// its index among the element's flow_names(), in element order.
+  struct FlowColumn {
+    int element, index;
+    std::string label;  ///< BODY.NAME
+  };
+  std::vector<FlowColumn> flow_columns;
+  std::vector<double> flow_values;  // at the current step, one per flow column
+  std::vector<double> element_flows;  // scratch
+  bool ledger = false;                // EnergyLedger::applies: the energy account is recorded
+  EnergyAccount account;              // as of the next append
+  /// The account's works in the order of the probe CSV's columns and /hydraulics/energy.
+  std::array<double, 6> account_row() const {
+    return {account.supplied, account.dissipated, account.compression, account.mechanical_change,
+            account.fluid_change, account.imbalance()};
+  }
   void write_probe_header();
   void write_probe_row(const ModelState& state);
   void add(hid_t group, const std::string& name, std::vector<hsize_t> row, const char* units,
@@ -160,6 +177,12 @@ ResultWriter::Impl::Impl(const Model& m, ResultWriterOptions o) : model(m), opts
                                   " does not exist (the model has " + std::to_string(model.joints.size()) +
                                   " joints)");
   io::VizGeometry::check_draw_sequences(model);
+  ledger = EnergyLedger::applies(model);
+  for (int e = 0; e < static_cast<int>(model.elements.size()); ++e) {
+    const auto names = model.elements[e].element->flow_names();
+    for (int k = 0; k < static_cast<int>(names.size()); ++k)
+      flow_columns.push_back({e, k, model.bodies[model.elements[e].body].name + "." + names[k]});
+  }
 
   const fs::path dir = opts.directory.empty() ? fs::path(".") : fs::path(opts.directory);
   h5 = dir / (opts.base_name + ".h5");
@@ -437,8 +460,31 @@ void ResultWriter::Impl::create_series() {
     out[2] = energy.strain;
   });
   add(root, "energy_total", {}, "J", [this](const ModelState&, double* out) {
-    out[0] = energy.kinetic + energy.gravity_potential + energy.strain;
+    out[0] = energy.kinetic + energy.gravity_potential + energy.strain + energy.fluid;
   });
+  if (!pressure_blocks().empty())
+    add(root, "energy_fluid", {}, "J", [this](const ModelState&, double* out) { out[0] = energy.fluid; });
+  if (flow_columns.empty() && !ledger) return;
+  const Hid h = group(root, "hydraulics");
+  if (!flow_columns.empty()) {
+    if (!continuing) {
+      std::vector<std::string> labels;
+      for (const FlowColumn& f : flow_columns) labels.push_back(f.label);
+      io::write_strings(h.get(), "flow_names", labels, ctx);
+    }
+    add(h.get(), "flow", {flow_columns.size()}, "m^3/s", [this](const ModelState&, double* out) {
+      std::copy(flow_values.begin(), flow_values.end(), out);
+    });
+  }
+  if (ledger) {
+    if (!continuing)
+      io::write_strings(h.get(), "energy_columns",
+                        {"supplied", "dissipated", "compression", "mechanical_change", "fluid_change", "imbalance"}, ctx);
+    add(h.get(), "energy", {6}, "J (works since the run's start, EnergyLedger)", [this](const ModelState&, double* out) {
+      const auto row = account_row();
+      std::copy(row.begin(), row.end(), out);
+    });
+  }
 }
 
 // The solvers' whole coordinate vector in model order (the same on any number of ranks), so a
@@ -547,6 +593,15 @@ void ResultWriter::Impl::compute_step(const ModelState& state) {
     energy.kinetic += o.energy.kinetic;
     energy.gravity_potential += o.energy.gravity_potential;
     energy.strain += o.energy.strain;
+    energy.fluid += o.energy.fluid;
+  }
+  flow_values.resize(flow_columns.size());
+  for (std::size_t f = 0; f < flow_columns.size(); ++f) {
+    const FlowColumn& c = flow_columns[f];
+    const Element& el = *model.elements[c.element].element;
+    element_flows.resize(el.flow_names().size());
+    el.flows(state.element_slots(c.element), ctx, element_flows);
+    flow_values[f] = element_flows[c.index];
   }
   viz->points(state, element_out, points);
   joint_axes.resize(9 * model.joints.size());
@@ -598,6 +653,13 @@ void ResultWriter::Impl::write_probe_header() {
     header += ',';
     header += csv_field(model.blocks[b].label.substr(kHydraulicNodeLabel.size()) + ".p [Pa]");
   }
+  for (const FlowColumn& f : flow_columns) {
+    header += ',';
+    header += csv_field(f.label + " [m^3/s]");
+  }
+  if (ledger)
+    header += ",work supplied [J],work dissipated [J],work into oil compression [J],mechanical energy change [J],"
+              "oil energy change [J],energy imbalance [J]";
   header += "\n";
   if (std::fputs(header.c_str(), probes) < 0 || std::fflush(probes) != 0) os_fail("write", csv, errno);
 }
@@ -615,8 +677,21 @@ void ResultWriter::Impl::write_probe_row(const ModelState& state) {
     row += ',';
     row += io::format_double(state.block(b).pos(0));
   }
+  for (double q : flow_values) {  // computed by compute_step, which precedes every row
+    row += ',';
+    row += io::format_double(q);
+  }
+  if (ledger)
+    for (double w : account_row()) {
+      row += ',';
+      row += io::format_double(w);
+    }
   row += "\n";
   if (std::fputs(row.c_str(), probes) < 0) os_fail("write", csv, errno);  // flushed with the .h5
+}
+
+void ResultWriter::set_energy_account(const EnergyAccount& account) {
+  if (impl_) impl_->account = account;
 }
 
 ResultWriter::ResultWriter(const Model& model, ResultWriterOptions opts)

@@ -2,6 +2,7 @@
 // beside it that ParaView opens as a time series of line cells, and a CSV file of probe joints.
 #pragma once
 
+#include "assembly/energy_ledger.hpp"
 #include "assembly/model_state.hpp"
 
 #include <filesystem>
@@ -122,6 +123,10 @@ class ResultWriter {
   /// std::invalid_argument for a state of another model, std::logic_error after close() or after
   /// an append that failed writing the .h5 (the files keep every step completed before it).
   void append(const ModelState& state);
+  /// The energy account the next append() records, for models with a hydraulic circuit
+  /// (EnergyLedger::applies): its works go into /hydraulics/energy and the probe CSV (zero until
+  /// set); ignored for other models.
+  void set_energy_account(const EnergyAccount& account);
 
   /// Writes a checkpoint (io/checkpoint.hpp) after flushing every step appended so far, so that
   /// the checkpoint and the steps it counts are on disk together. Throws as append().

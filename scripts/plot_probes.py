@@ -50,19 +50,39 @@ def main():
     a = p.parse_args()
     cols, units = read(a.csv)
     t = cols["time"]
-    # Hydraulic node pressures ("node.p [Pa]") after the joints: one panel row of their own.
+    # A circuit's columns after the joints: pressures ("node.p [Pa]") and flows ("valve.Q [m^3/s]")
+    # in one row of panels, the energy account ("... [J]") in another.
     pressures = [name for name in cols if name.endswith(".p")]
-    joints = list(dict.fromkeys(name.rsplit(".", 1)[0] for name in cols if name != "time" and name not in pressures))
-    rows = len(joints) + (1 if pressures else 0)
+    flows = [name for name in cols if units[name] == "m^3/s"]
+    works = [name for name in cols if units[name] == "J"]
+    hydraulic = set(pressures) | set(flows) | set(works)
+    joints = list(dict.fromkeys(name.rsplit(".", 1)[0] for name in cols if name != "time" and name not in hydraulic))
+    extra = (1 if pressures or flows else 0) + (1 if works else 0)
+    rows = len(joints) + extra
     fig, axes = plt.subplots(rows, 2, figsize=(11, 3.2 * rows), squeeze=False, sharex=True)
-    if pressures:
-        ax = axes[-1][0]
+    row = len(joints)
+    if pressures or flows:
+        left, right = axes[row]
         for name in pressures:
-            ax.plot(t, [x / 1e5 for x in cols[name]], label=name[:-2])
-        ax.set_ylabel("pressure [bar]" if units[pressures[0]] == "Pa" else f"pressure [{units[pressures[0]]}]")
-        ax.grid(True, alpha=0.3)
-        ax.legend(loc="upper right", fontsize=8)
-        axes[-1][1].axis("off")
+            left.plot(t, [x / 1e5 for x in cols[name]], label=name[:-2])
+        left.set_ylabel("pressure [bar]" if pressures and units[pressures[0]] == "Pa" else "pressure")
+        for name in flows:
+            right.plot(t, [q * 6e4 for q in cols[name]], label=name)
+        right.set_ylabel("flow [l/min]")
+        row += 1
+    if works:
+        left, right = axes[row]
+        for name in works:
+            (right if name.startswith("energy imbalance") else left).plot(t, [w / 1e3 for w in cols[name]], label=name)
+        left.set_ylabel("work, energy change [kJ]")
+        right.set_ylabel("energy imbalance [kJ]")
+    for r in range(len(joints), rows):
+        for ax in axes[r]:
+            if ax.lines:
+                ax.grid(True, alpha=0.3)
+                ax.legend(loc="best", fontsize=7)
+            else:
+                ax.axis("off")
     for row, joint in enumerate(joints):
         for c in "xyz":
             axes[row][0].plot(t, cols[f"{joint}.{c}"], label=c)
@@ -74,9 +94,7 @@ def main():
             ax.legend(loc="upper right", fontsize=8)
     for ax in axes[-1]:
         ax.set_xlabel(f"time [{units['time']}]")
-    if pressures:
-        axes[-2][1].tick_params(labelbottom=True)
-        axes[-2][1].set_xlabel(f"time [{units['time']}]")
+        ax.tick_params(labelbottom=True)
     fig.suptitle(a.title or a.csv)
     fig.tight_layout()
     fig.savefig(a.output, dpi=110)

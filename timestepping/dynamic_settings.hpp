@@ -37,6 +37,10 @@ struct DynamicSettings {
   /// integrator there (as a rotation rescale does), so a run continued from it repeats the rest of
   /// the uninterrupted run bit for bit.
   double checkpoint_interval = 0.0;
+  /// A hydraulic circuit and its mechanism solved as one system (false: the default), or stepped
+  /// apart and coupled every coupling_step (HydraulicCosimulation; generalized-alpha only).
+  bool hydraulic_cosimulation = false;
+  double coupling_step = 0.0;  ///< s; 0: the time step
 };
 
 /// Where a run continues from a checkpoint: the integrator's state beside the coordinates and

@@ -160,7 +160,7 @@ Result evaluate(const InputNode& c, const Trajectory& tr, const std::filesystem:
                                                  "energy_drift", "max_violation", "variation", "compare_run",
                                                  "mpi_consistency", "frequency", "buckling_factor", "limit_load",
                                                  "min_axial_force", "damping_ratio", "section_force",
-                                                 "member_stress", "pressure"});
+                                                 "member_stress", "pressure", "energy_balance"});
   int rank = 0, size = 1;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &size);
@@ -284,6 +284,12 @@ Result evaluate(const InputNode& c, const Trajectory& tr, const std::filesystem:
   if (what == "energy_drift") {
     c.allow_only({"what", "max"});
     return below("energy drift / max kinetic energy", tr.energy_drift(), c["max"].as_positive());
+  }
+  if (what == "energy_balance") {  // pumps' work = mechanical energy + heat + oil compression
+    c.allow_only({"what", "max"});
+    if (!tr.energy_account) c["what"].fail("the model has no hydraulic circuit: it keeps no energy account");
+    return below("|energy imbalance| / largest work", std::abs(tr.energy_account->relative_imbalance()),
+                 c["max"].as_positive());
   }
   if (what == "max_violation") {
     c.allow_only({"what", "max"});

@@ -75,7 +75,9 @@ double Trajectory::energy_drift() const {
 }
 
 TrajectoryRecorder::TrajectoryRecorder(SystemAssembler& sa, double interval, Trajectory* out)
-    : sa_(sa), state_(sa.model(), sa.dofs()), interval_(interval), out_(out) {}
+    : sa_(sa), state_(sa.model(), sa.dofs()), interval_(interval), out_(out) {
+  if (EnergyLedger::applies(sa.model())) ledger_.emplace(sa.model());
+}
 
 PetscErrorCode TrajectoryRecorder::record(double t, Vec U, Vec V, Parametrization param) {
   PetscFunctionBeginUser;
@@ -93,7 +95,7 @@ PetscErrorCode TrajectoryRecorder::record(double t, Vec U, Vec V, Parametrizatio
     out_->time.push_back(t);
     out_->joints.push_back(std::move(joints));
     out_->frames.push_back(std::move(frames));
-    out_->energy.push_back(e.kinetic + e.gravity_potential + e.strain);
+    out_->energy.push_back(e.kinetic + e.gravity_potential + e.strain + e.fluid);
     out_->kinetic.push_back(e.kinetic);
     out_->violation.push_back(state_.max_constraint_violation().first);
     std::vector<double> axial(sa_.model().elements.size());
@@ -118,6 +120,13 @@ PetscErrorCode TrajectoryRecorder::record(double t, Vec U, Vec V, Parametrizatio
 PetscErrorCode TrajectoryRecorder::on_step(const StepInfo& info) {
   PetscFunctionBeginUser;
   const double eps = 1e-9 * std::max(1.0, std::abs(info.time));
+  if (ledger_) {
+    PetscCall(sa_.gather(info.time, info.U, info.V, info.A, info.param, &state_));
+    if (sa_.dofs().rank() == 0 && (!ledger_->started() || info.time > ledger_->account().time)) {
+      PetscCallCXX(ledger_->record(state_));
+      out_->energy_account = ledger_->account();
+    }
+  }
   if (info.step == 0 || info.time >= next_ - eps) {
     PetscCall(record(info.time, info.U, info.V, info.param));
     if (interval_ > 0) next_ = (std::floor((info.time + eps) / interval_) + 1) * interval_;

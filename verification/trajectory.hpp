@@ -6,6 +6,7 @@
 #include "drivers/simulation.hpp"
 
 #include <memory>
+#include <optional>
 #include <vector>
 
 namespace latticedyn {
@@ -21,6 +22,8 @@ struct Trajectory {
   std::vector<double> violation;          ///< max |g| over all constraints
   std::vector<std::vector<double>> axial;  ///< [step][element] axial force, NaN where none
   std::unique_ptr<ModelState> final_state;
+  /// The run's energy account at its end (models with a hydraulic circuit; EnergyLedger).
+  std::optional<EnergyAccount> energy_account;
   /// Set before a run: record member_peaks (every element's output at every recorded step).
   bool record_member_peaks = false;
   std::vector<std::vector<double>> member_peaks;  ///< [element][member] largest von Mises stress over the run
@@ -53,6 +56,7 @@ class TrajectoryRecorder final : public StepObserver {
   PetscErrorCode record(double t, Vec U, Vec V, Parametrization param);
   SystemAssembler& sa_;
   ModelState state_;
+  std::optional<EnergyLedger> ledger_;  // recorded every step
   double interval_, next_ = 0.0;
   double last_recorded_ = -1e300;  // on every rank: recording is collective
   Trajectory* out_;

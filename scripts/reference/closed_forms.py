@@ -82,3 +82,27 @@ def elastica_tip(alpha, steps=20000):
 for a in (1.0, 3.0, 10.0):
     u, w, th = elastica_tip(a)
     print(f"elastica: P L^2 / EI = {a:g}: u/L = {u:.5f}, w/L = {w:.5f}, tip rotation {th:.5f} rad")
+
+
+# --- relief valve steady pressure (verification/cases/hydraulic_relief_valve.yaml,
+# hydraulic_end_stop.yaml): the orifice equation with the valve's opening law, Q = C_d x(dp) A
+# sqrt(2 / rho) dp / (dp^2 + p_t^2)^(1/4), x the smoothstep from cracking to full-open pressure
+# (Merritt, Hydraulic Control Systems, 1967, 3.2), solved for dp by bisection.
+def relief_pressure(flow, area, cracking, full_open, cd=0.62, rho=870.0, pt=1e4):
+    def passed(dp):
+        y = min(max((dp - cracking) / (full_open - cracking), 0.0), 1.0)
+        return cd * y * y * (3 - 2 * y) * area * math.sqrt(2 / rho) * dp / (dp * dp + pt * pt) ** 0.25
+    lo, hi = cracking, 10 * full_open
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if passed(mid) < flow else (lo, mid)
+    return 0.5 * (lo + hi)
+
+
+print(f"relief valve: 0.1 l/s through 10 mm^2 (200/220 bar): {relief_pressure(1e-4, 1e-5, 2e7, 2.2e7):.9f} Pa")
+# End stop: a pump (0.5 l/s) drives a cylinder (piston 100 mm) to full stroke; the relief valve
+# then passes the whole flow, and the stop (k = 1e8 N/m, C1 over w = 0.1 mm) carries p_1 A_1:
+# travel past the stop d = p_1 A_1 / k + w / 2 (the spring's force k (d - w / 2) past w).
+p1 = relief_pressure(5e-4, 1e-5, 2e7, 2.2e7)
+A1 = math.pi / 4 * 0.1**2
+print(f"end stop: cap pressure {p1:.9f} Pa, rod end at x = {0.5 + 0.2 + p1 * A1 / 1e8 + 0.5e-4:.12f} m")

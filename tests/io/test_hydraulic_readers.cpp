@@ -70,6 +70,29 @@ TEST(HydraulicReaders, BuildsTheCircuit) {
   EXPECT_EQ(pa->properties().fluid.density, 880.0);
   EXPECT_EQ(m.bodies[m.find_body("ram")].type, "hydraulic_cylinder");
   EXPECT_GE(m.find_joint("ram.2"), 0);
+  EXPECT_FALSE(sim.dynamics.hydraulic_cosimulation);
+  const Simulation cosim = read_simulation_from_string(
+      replaced(kCircuit, "time_step: 0.01}", "time_step: 0.01, hydraulic_coupling: cosimulation, coupling_step: 0.02}"),
+      "circuit.yaml");
+  EXPECT_TRUE(cosim.dynamics.hydraulic_cosimulation);
+  EXPECT_EQ(cosim.dynamics.coupling_step, 0.02);
+}
+
+TEST(HydraulicReaders, CosimulationNeedsACircuit) {
+  const std::string mechanism = R"(title: no circuit
+gravity: [0, 0, -9.81]
+bodies:
+  - {name: b, type: rigid_body, mass: 1, inertia: [1, 1, 1], position: [0, 0, 0]}
+solver:
+  dynamics: {t_end: 1, time_step: 0.01, hydraulic_coupling: cosimulation}
+)";
+  try {
+    read_simulation_from_string(mechanism, "m.yaml");
+    FAIL() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.key(), "solver.dynamics.hydraulic_coupling") << e.what();
+    EXPECT_NE(std::string(e.what()).find("no 'hydraulics'"), std::string::npos) << e.what();
+  }
 }
 
 struct Bad {
@@ -108,7 +131,17 @@ INSTANTIATE_TEST_SUITE_P(
         Bad{"statics", "  dynamics: {t_end: 1, time_step: 0.01}", "  static: {load_steps: 1}\n  dynamics: {t_end: 1, time_step: 0.01}",
             "solver.static", "no static solve"},
         Bad{"baumgarte", "time_step: 0.01}", "time_step: 0.01, integrator: baumgarte}", "solver.dynamics.integrator",
-            "generalized_alpha or implicit_rk"}),
+            "generalized_alpha or implicit_rk"},
+        Bad{"negative_end_stop", "dead_volumes: [1.0e-4, 1.0e-4]", "dead_volumes: [1.0e-4, 1.0e-4], end_stop_stiffness: -1",
+            "bodies[0].end_stop_stiffness", "positive"},
+        Bad{"coupling_step_alone", "time_step: 0.01}", "time_step: 0.01, coupling_step: 0.02}",
+            "solver.dynamics.coupling_step", "hydraulic_coupling: cosimulation"},
+        Bad{"coupling_step_short", "time_step: 0.01}", "time_step: 0.01, hydraulic_coupling: cosimulation, coupling_step: 0.005}",
+            "solver.dynamics.coupling_step", "at least the time step"},
+        Bad{"cosimulation_implicit_rk", "time_step: 0.01}", "time_step: 0.01, integrator: implicit_rk, hydraulic_coupling: cosimulation}",
+            "solver.dynamics.hydraulic_coupling", "generalized_alpha"},
+        Bad{"unknown_coupling", "time_step: 0.01}", "time_step: 0.01, hydraulic_coupling: staggered}",
+            "solver.dynamics.hydraulic_coupling", "monolithic"}),
     [](const ::testing::TestParamInfo<Bad>& info) { return std::string(info.param.name); });
 
 }  // namespace

@@ -708,6 +708,84 @@ bodies:
   expect_xdmf_matches(writer.xdmf_path(), f.id, {0.0, 0.1});
 }
 
+// A hydraulic circuit's results: every flow by name (pumps, valves, the four paths of a reversing
+// valve, the cylinder's chambers) in the HDF5 file and the probe CSV, the oil's energy, and the
+// energy account as handed to the writer.
+TEST(ResultWriter, HydraulicFlowsAndTheEnergyAccount) {
+  const char* text = R"(title: circuit
+gravity: [0, 0, -9.81]
+drives:
+  spool: {type: constant, value: 0.5}
+hydraulics:
+  nodes:
+    - {name: supply, volume: 1.0e-3, pressure: 1.0e7}
+    - {name: a, volume: 1.0e-4, pressure: 2.0e6}
+    - {name: b, volume: 1.0e-4, pressure: 1.0e6}
+    - {name: tank, pressure: 0, fixed: true}
+  elements:
+    - {name: pump, type: pump, node: supply, flow: 1.0e-4}
+    - {name: relief, type: relief_valve, from: supply, to: tank, area: 1.0e-5, cracking_pressure: 2.0e7, full_open_pressure: 2.2e7}
+    - {name: valve, type: directional_valve, ports: {P: supply, T: tank, A: a, B: b}, area: 2.0e-5, spool: spool}
+bodies:
+  - {name: ram, type: hydraulic_cylinder, ends: [[0, 0, 0], [0, 0, 1.5]], retracted_length: 1.0, stroke: 1.0,
+     piston_diameter: 0.1, rod_diameter: 0.05, dead_volumes: [1.0e-4, 1.0e-4], ports: [a, b]}
+)";
+  Recording run(read_simulation_from_string(text, "circuit.yaml").model, 2);
+  const Model& model = run.model;
+  ScratchDir dir;
+  const int probe = model.find_joint("ram.2");
+  ResultWriter writer(model, {dir.path.string(), "circuit", {probe}, {}});
+  EnergyAccount account;
+  for (std::size_t k = 0; k < run.states.size(); ++k) {
+    account.supplied = 100.0 * (k + 1), account.dissipated = 60.0 * (k + 1), account.compression = 3.0 * (k + 1);
+    account.mechanical_change = 30.0 * (k + 1), account.fluid_change = 2.5 * (k + 1);
+    writer.set_energy_account(account);
+    writer.append(run.states[k]);
+  }
+  writer.close();
+
+  // In element order: the bodies come before the circuit's elements.
+  const std::vector<std::string> names = {"ram.Q_piston", "ram.Q_rod", "pump.Q", "relief.Q", "valve.Q_PA", "valve.Q_BT",
+                                          "valve.Q_PB", "valve.Q_AT"};
+  H5File f(writer.h5_path());
+  EXPECT_EQ(read_strings(f.id, "/hydraulics/flow_names"), names);
+  const auto flow = read<double>(f.id, "/hydraulics/flow");
+  const ModelState& s = run.states[1];
+  std::size_t column = 0;
+  for (std::size_t e = 0; e < model.elements.size(); ++e) {
+    const Element& el = *model.elements[e].element;
+    std::vector<double> q(el.flow_names().size());
+    el.flows(s.element_slots(static_cast<int>(e)), s.context(), q);
+    for (double x : q) EXPECT_EQ(flow.at({1, column++}), x) << names[column - 1];
+  }
+  ASSERT_EQ(column, names.size());
+  EXPECT_NE(flow.at({1, 4}), 0.0);  // P->A is half open
+  const auto energy = read<double>(f.id, "/hydraulics/energy");
+  EXPECT_EQ(energy.at({1, 0}), 200.0);
+  EXPECT_EQ(energy.at({1, 5}), 200.0 - 120.0 - 6.0 - 60.0);  // the imbalance
+  const ElementEnergy e1 = s.energy();
+  EXPECT_GT(e1.fluid, 0.0);
+  EXPECT_DOUBLE_EQ(read<double>(f.id, "/energy_fluid").v[1], e1.fluid);
+  EXPECT_DOUBLE_EQ(read<double>(f.id, "/energy_total").v[1], e1.kinetic + e1.gravity_potential + e1.strain + e1.fluid);
+
+  const auto csv = read_csv(writer.csv_path());
+  ASSERT_EQ(csv.size(), 3u);
+  const auto& header = csv[0];
+  const auto at = [&](const std::string& name) {
+    const auto it = std::find(header.begin(), header.end(), name);
+    EXPECT_NE(it, header.end()) << name;
+    return static_cast<std::size_t>(it - header.begin());
+  };
+  EXPECT_DOUBLE_EQ(std::stod(csv[2][at("valve.Q_PA [m^3/s]")]), flow.at({1, 4}));
+  int node_a = -1;
+  for (int b = 0; b < static_cast<int>(model.blocks.size()); ++b)
+    if (model.blocks[b].label == "hydraulic node a") node_a = b;
+  ASSERT_GE(node_a, 0);
+  EXPECT_DOUBLE_EQ(std::stod(csv[2][at("a.p [Pa]")]), s.block(node_a).pos(0));
+  EXPECT_EQ(std::stod(csv[2][at("work supplied [J]")]), 200.0);
+  EXPECT_EQ(std::stod(csv[2][at("energy imbalance [J]")]), 14.0);
+}
+
 // Constraints get a block each, named after them, up to kMaxNamedConstraints; a model with more
 // gets one block of all (a grid per constraint and step would swell the file for a list nobody
 // browses).
