@@ -157,7 +157,7 @@ PYBIND11_MODULE(latticedyn, m) {
            [](const PySimulator& s) {
              const latticedyn::ElementEnergy e = s.sim.energy();
              return py::dict(py::arg("kinetic") = e.kinetic, py::arg("gravity_potential") = e.gravity_potential,
-                             py::arg("strain") = e.strain);
+                             py::arg("strain") = e.strain, py::arg("fluid") = e.fluid);
            })
       .def("probes", [](const PySimulator& s) { return array(s.sim.probes()); })
       .def("coordinates", [](const PySimulator& s) { return array(s.sim.coordinates()); })
