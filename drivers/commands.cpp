@@ -229,6 +229,11 @@ int command_solve(Simulation& sim, const CommandOptions& opt, MPI_Comm comm, boo
   // file continued in place (another file: written anew from the checkpoint on).
   std::optional<Checkpoint> checkpoint;
   std::optional<ResultContinuation> continuation;
+  if (!opt.restart.empty() && sim.dynamics.hydraulic_cosimulation) {
+    error_root(comm, "--restart: a hydraulic co-simulation (solver.dynamics.hydraulic_coupling: cosimulation) keeps no "
+                     "checkpoints to continue; run it from the start");
+    return kInputError;
+  }
   if (!opt.restart.empty()) {
     checkpoint.emplace();
     error = load_checkpoint(sim, opt.restart, &*checkpoint);

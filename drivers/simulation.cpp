@@ -65,9 +65,9 @@ PetscErrorCode simulate(Simulation& sim, SystemAssembler& sa, Vec U, Vec V, bool
       MinimumDofIntegrator integrator(sa, sim.dynamics);
       PetscCall(integrator.run(U, V, observer, &outcome->dynamics, resume));
     } else if (sim.dynamics.hydraulic_cosimulation) {
+      // No checkpoints (the driver refuses --restart): a co-simulation starts from its start.
+      PetscCheck(!resume, sa.comm(), PETSC_ERR_SUP, "a hydraulic co-simulation cannot continue a checkpoint");
       HydraulicCosimulation cosimulation(sa, sim.dynamics);
-      PetscCheck(!resume, sa.comm(), PETSC_ERR_SUP,
-                 "a hydraulic co-simulation cannot continue a checkpoint: run it from the start");
       PetscCall(cosimulation.run(U, V, observer, &outcome->dynamics));
     } else if (sim.dynamics.integrator == IntegratorKind::implicit_rk) {
       ImplicitRungeKuttaIntegrator integrator(sa, sim.dynamics);
