@@ -315,7 +315,10 @@ PetscErrorCode GeneralizedAlphaIntegrator::land_on_end() {
   PetscCall(TSGetMaxTime(ts_, &t_max));
   // TSALPHA2 without adaptivity steps past the end (PETSc's exact-final-time option shortens only
   // through an adaptor); a step that would overshoot by more than round-off is cut to land on it.
-  if (t < t_max && t + dt > t_max + 1e-9 * dt) PetscCall(TSSetTimeStep(ts_, t_max - t));
+  // Steps summed to the end can fall short of it by round-off: that is the end, not a step of
+  // 1e-16 s (whose Newton system, scaled by 1/h^2, cannot be solved).
+  if (t < t_max && t_max - t <= 1e-9 * dt) PetscCall(TSSetTime(ts_, t_max));
+  else if (t < t_max && t + dt > t_max + 1e-9 * dt) PetscCall(TSSetTimeStep(ts_, t_max - t));
   PetscFunctionReturn(0);
 }
 

@@ -92,6 +92,15 @@ TEST(HydraulicCoupling, CosimulationIsFirstOrderInItsCouplingStep) {
   }
 }
 
+// Coupling steps of 0.005 s summed by each part's integrator fall short of 1.1 s by round-off; the
+// part must take that for the end, not try a step of 1e-16 s (whose Newton system is singular).
+TEST(HydraulicCoupling, StepsSummedShortOfTheEndByRoundOffLandOnIt) {
+  for (double t_end : {1.1, 2.3, 3.3}) {
+    const TipPath path = run(0.005, 0.005, t_end);
+    EXPECT_TRUE(path.completed) << t_end << ": " << path.message;
+  }
+}
+
 TEST(HydraulicCoupling, TooLongACouplingStepFailsSayingWhere) {
   // The held pressures act on the boom as an explicit force: past H of about 0.035 s the exchange
   // amplifies the oil's oscillation instead of following it.
