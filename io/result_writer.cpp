@@ -598,9 +598,11 @@ void ResultWriter::Impl::compute_step(const ModelState& state) {
   flow_values.resize(flow_columns.size());
   for (std::size_t f = 0; f < flow_columns.size(); ++f) {
     const FlowColumn& c = flow_columns[f];
-    const Element& el = *model.elements[c.element].element;
-    element_flows.resize(el.flow_names().size());
-    el.flows(state.element_slots(c.element), ctx, element_flows);
+    if (c.index == 0) {  // an element's columns are consecutive: one evaluation gives them all
+      const Element& el = *model.elements[c.element].element;
+      element_flows.resize(el.flow_names().size());
+      el.flows(state.element_slots(c.element), ctx, element_flows);
+    }
     flow_values[f] = element_flows[c.index];
   }
   viz->points(state, element_out, points);
