@@ -84,10 +84,15 @@ std::string describe_kind(const drive::TrapezoidalVelocity& p) {
          fmt(trapezoidal_kinematics(p).peak_rate);
 }
 
-std::string describe_kind(const drive::CosineStep& p) {
-  return "cosine step " + fmt(p.y_start) + " -> " + fmt(p.y_end) + " over [" + fmt(p.t_start) +
+// A step from y_start to y_end over [t_start, t_end] (cosine or quintic).
+template <class Step>
+std::string describe_step(const char* name, const Step& p) {
+  return std::string(name) + " step " + fmt(p.y_start) + " -> " + fmt(p.y_end) + " over [" + fmt(p.t_start) +
          ", " + fmt(p.t_end) + "] s";
 }
+
+std::string describe_kind(const drive::CosineStep& p) { return describe_step("cosine", p); }
+std::string describe_kind(const drive::QuinticStep& p) { return describe_step("quintic", p); }
 
 std::string describe_kind(const drive::CosineFull& p) {
   return "cosine bump " + fmt(p.y1) + " -> " + fmt(p.y2) + " -> " + fmt(p.y1) + " over [" +
@@ -119,6 +124,15 @@ std::string describe_kind(const drive::Sum& p) {
   return out;
 }
 
+template <class Step>
+void require_step(const char* kind, const Step& p) {
+  require_finite(kind, "t_start", p.t_start);
+  require_finite(kind, "t_end", p.t_end);
+  require_finite(kind, "y_start", p.y_start);
+  require_finite(kind, "y_end", p.y_end);
+  require_later(kind, "t_end", p.t_end, "t_start", p.t_start);
+}
+
 }  // namespace
 
 Drive::Drive() : kind_(Constant{0.0}) {}
@@ -141,14 +155,9 @@ Drive::Drive(TrapezoidalVelocity p) : kind_(p) {
   }
 }
 
-Drive::Drive(CosineStep p) : kind_(p) {
-  const char* kind = "CosineStep";
-  require_finite(kind, "t_start", p.t_start);
-  require_finite(kind, "t_end", p.t_end);
-  require_finite(kind, "y_start", p.y_start);
-  require_finite(kind, "y_end", p.y_end);
-  require_later(kind, "t_end", p.t_end, "t_start", p.t_start);
-}
+Drive::Drive(CosineStep p) : kind_(p) { require_step("CosineStep", p); }
+
+Drive::Drive(QuinticStep p) : kind_(p) { require_step("QuinticStep", p); }
 
 Drive::Drive(CosineFull p) : kind_(p) {
   const char* kind = "CosineFull";
@@ -217,6 +226,7 @@ std::vector<double> breakpoints_of(const drive::TrapezoidalVelocity& p) {
   return {p.t_start, p.t_start + p.accel_time, p.t_start + p.duration - p.decel_time, p.t_start + p.duration};
 }
 std::vector<double> breakpoints_of(const drive::CosineStep& p) { return {p.t_start, p.t_end}; }
+std::vector<double> breakpoints_of(const drive::QuinticStep& p) { return {p.t_start, p.t_end}; }
 std::vector<double> breakpoints_of(const drive::CosineFull& p) { return {p.t1, p.t2}; }
 std::vector<double> breakpoints_of(const drive::TanhStep& p) { return {p.t1, p.t2}; }
 std::vector<double> breakpoints_of(const drive::Sine&) { return {}; }

@@ -23,6 +23,7 @@ class Drive {
   using Constant = drive::Constant;
   using TrapezoidalVelocity = drive::TrapezoidalVelocity;
   using CosineStep = drive::CosineStep;
+  using QuinticStep = drive::QuinticStep;
   using CosineFull = drive::CosineFull;
   using TanhStep = drive::TanhStep;
   using Sine = drive::Sine;
@@ -40,6 +41,8 @@ class Drive {
   Drive(TrapezoidalVelocity p);
   /// Thesis eq. E-6..E-8. @throws std::invalid_argument unless t_end > t_start, all finite.
   Drive(CosineStep p);
+  /// @throws std::invalid_argument unless t_end > t_start, all finite.
+  Drive(QuinticStep p);
   /// Thesis eq. E-9..E-11. @throws std::invalid_argument unless t2 > t1, all finite.
   Drive(CosineFull p);
   /// Thesis eq. E-13..E-15. @throws std::invalid_argument unless t2 > t1, lambda > 0, finite.
@@ -70,7 +73,7 @@ class Drive {
 
  private:
   // A table is kept as its spline (which keeps the points), so the system is solved only once.
-  std::variant<Constant, TrapezoidalVelocity, CosineStep, CosineFull, TanhStep, Sine, CubicSpline,
+  std::variant<Constant, TrapezoidalVelocity, CosineStep, QuinticStep, CosineFull, TanhStep, Sine, CubicSpline,
                Sum, External>
       kind_;
 };

@@ -44,6 +44,18 @@ struct CosineStep {
   double y_end = 0.0;
 };
 
+/// Quintic (minimum-jerk) step from y_start to y_end over [t_start, t_end]:
+/// y = y_start + (y_end - y_start)(10 s^3 - 15 s^4 + 6 s^5), s = (t - t_start)/(t_end - t_start);
+/// rate and acceleration are zero at both ends (the cosine step's acceleration jumps there), so
+/// a prescribed motion starting from rest excites a flexible body's stiff modes only through the
+/// jerk (Flash & Hogan 1985; Biagiotti & Melchiorri 2008, 2.1.5).
+struct QuinticStep {
+  double t_start = 0.0;
+  double t_end = 0.0;
+  double y_start = 0.0;
+  double y_end = 0.0;
+};
+
 /// Full-cosine bump y1 -> y2 at (t1 + t2)/2 -> back to y1 at t2 (thesis eq. E-9..E-11).
 struct CosineFull {
   double t1 = 0.0;

@@ -54,6 +54,16 @@ DriveValue evaluate_profile(const drive::CosineStep& p, double t) {
           half_jump * omega * omega * std::cos(phi)};
 }
 
+DriveValue evaluate_profile(const drive::QuinticStep& p, double t) {
+  if (t < p.t_start) return {p.y_start, 0.0, 0.0};
+  if (t >= p.t_end) return {p.y_end, 0.0, 0.0};
+  const double span = p.t_end - p.t_start;
+  const double s = (t - p.t_start) / span;
+  const double jump = p.y_end - p.y_start;
+  return {p.y_start + jump * s * s * s * (10.0 + s * (-15.0 + 6.0 * s)), jump / span * 30.0 * s * s * (1.0 - s) * (1.0 - s),
+          jump / (span * span) * 60.0 * s * (1.0 - s) * (1.0 - 2.0 * s)};
+}
+
 DriveValue evaluate_profile(const drive::CosineFull& p, double t) {
   if (t < p.t1 || t >= p.t2) return {p.y1, 0.0, 0.0};
   const double span = p.t2 - p.t1;

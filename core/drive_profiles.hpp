@@ -26,6 +26,7 @@ DriveValue evaluate_profile(const drive::TrapezoidalVelocity& p, double t);
 
 /// Half-cosine step (thesis eq. E-6..E-8). C1 in time; the acceleration jumps at the ends.
 DriveValue evaluate_profile(const drive::CosineStep& p, double t);
+DriveValue evaluate_profile(const drive::QuinticStep& p, double t);
 
 /// Full-cosine bump (thesis eq. E-9..E-11). C1 in time; the acceleration jumps at the ends.
 DriveValue evaluate_profile(const drive::CosineFull& p, double t);

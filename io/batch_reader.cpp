@@ -17,16 +17,6 @@ std::vector<std::string> BatchMeasure::columns() const {
 
 namespace {
 
-KeyOverride make_override(const std::string& path, const YAML::Node& value, const InputNode& at) {
-  KeyOverride o;
-  o.path = path;
-  o.value = value;
-  o.origin_file = at.file();
-  o.origin_line = at.line();
-  o.origin_column = at.column();
-  return o;
-}
-
 KeyOverride number_override(const LinearSetting& s, double value) {
   KeyOverride o;
   o.path = s.path;
@@ -184,7 +174,7 @@ BatchSpec read_batch(const std::string& path) {
 
   std::vector<KeyOverride> common;
   if (auto s = root.get("set"))
-    for (const auto& [key, value] : s->entries()) common.push_back(make_override(key, value.yaml(), value));
+    for (const auto& [key, value] : s->entries()) common.push_back(make_key_override(key, value.yaml(), value));
 
   if (root.has("parameters") == root.has("cases")) root.fail("expected either 'parameters' (a grid) or 'cases' (a list)");
   std::set<std::string> names;
@@ -222,7 +212,7 @@ BatchSpec read_batch(const std::string& path) {
       bc.label = n.get_string("name", "case " + std::to_string(bc.index));
       if (!labels.insert(bc.label).second) n.fail("a second case named '" + bc.label + "'");
       for (const auto& [key, value] : n["set"].entries()) {
-        bc.overrides.push_back(make_override(key, value.yaml(), value));
+        bc.overrides.push_back(make_key_override(key, value.yaml(), value));
         for (const auto& [column, v] : value_columns(key, value.yaml()))
           if (std::find(spec.columns.begin(), spec.columns.end(), column) == spec.columns.end()) spec.columns.push_back(column);
       }

@@ -17,7 +17,7 @@ Drive read_counted(const InputNode& n, int* functions);
 
 Drive make(const InputNode& n, int* functions) {
   const std::string type = n["type"].as_choice(
-      {"constant", "trapezoidal", "cosine_step", "cosine_full", "tanh", "sine", "table", "sum", "external"});
+      {"constant", "trapezoidal", "cosine_step", "quintic_step", "cosine_full", "tanh", "sine", "table", "sum", "external"});
   if (type == "external") {
     // Set by the program running the model (api/simulator.hpp); the command line holds it.
     if (*functions > 1) n.fail("an external drive of its own, not a term of a sum (a program sets it by its name)");
@@ -42,6 +42,10 @@ Drive make(const InputNode& n, int* functions) {
   if (type == "cosine_step") {
     n.allow_only({"type", "t_start", "t_end", "y_start", "y_end"});
     return Drive::CosineStep{n["t_start"].as_double(), n["t_end"].as_double(), n["y_start"].as_double(), n["y_end"].as_double()};
+  }
+  if (type == "quintic_step") {
+    n.allow_only({"type", "t_start", "t_end", "y_start", "y_end"});
+    return Drive::QuinticStep{n["t_start"].as_double(), n["t_end"].as_double(), n["y_start"].as_double(), n["y_end"].as_double()};
   }
   if (type == "cosine_full") {
     n.allow_only({"type", "t1", "t2", "y1", "y2"});

@@ -6,7 +6,7 @@
 
 namespace latticedyn {
 
-/// {type: constant | trapezoidal | cosine_step | cosine_full | tanh | sine | table | sum | external,
+/// {type: constant | trapezoidal | cosine_step | quintic_step | cosine_full | tanh | sine | table | sum | external,
 /// ...}; an external drive (set by a program through the API, held at `initial` otherwise) is
 /// not a term of a sum.
 Drive read_drive(const InputNode& n);

@@ -211,6 +211,16 @@ void apply_override(YAML::Node root, const KeyOverride& o, const std::string& mo
 
 }  // namespace
 
+KeyOverride make_key_override(const std::string& path, const YAML::Node& value, const InputNode& at) {
+  KeyOverride o;
+  o.path = path;
+  o.value = value;
+  o.origin_file = at.file();
+  o.origin_line = at.line();
+  o.origin_column = at.column();
+  return o;
+}
+
 std::optional<InputNode> InputNode::at_path(const std::string& dotted) const {
   InputNode at = *this;
   for (const std::string& key : split_path(dotted)) {

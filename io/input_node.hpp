@@ -46,6 +46,11 @@ struct KeyOverride {
   int origin_column = 0;
 };
 
+class InputNode;
+
+/// The override of `path` by `value`, written at `at` (its origin for error messages).
+KeyOverride make_key_override(const std::string& path, const YAML::Node& value, const InputNode& at);
+
 class InputNode {
  public:
   /// Parses a file; a YAML syntax error becomes an InputError with its position. A top-level

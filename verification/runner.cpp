@@ -12,7 +12,9 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <map>
 #include <numbers>
+#include <optional>
 #include <string>
 
 namespace latticedyn {
@@ -154,17 +156,112 @@ double limit_load(const std::string& model_path) {
   return NAN;
 }
 
+// The map of a check's key (`runs`, `reference`) as overrides of the model: dotted key -> value.
+std::vector<KeyOverride> overrides_of(const InputNode& map) {
+  if (!map.is_map()) map.fail("expected a map of dotted model keys to values, e.g. {solver.dynamics.time_step: 0.01}");
+  std::vector<KeyOverride> out;
+  for (const auto& [key, value] : map.entries()) out.push_back(make_key_override(key, value.yaml(), value));
+  return out;
+}
+
+// Where a joint is at the end of a run of the model with `overrides` (on rank 0 of comm), and when
+// the run ended; nothing if it failed (the failure in `message`).
+std::optional<Vec3> final_joint_position(const std::string& model, const std::vector<KeyOverride>& overrides,
+                                         const InputNode& joint, MPI_Comm comm, double* t_reached,
+                                         std::string* message) {
+  Trajectory tr;
+  SimulationOutcome outcome;
+  PetscCallAbort(comm, run_and_record(model, comm, &tr, &outcome, "", overrides));
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  *t_reached = outcome.dynamics.time_reached;
+  if (!outcome.ok()) {
+    *message = outcome.statics.message + outcome.dynamics.message;
+    return std::nullopt;
+  }
+  if (rank != 0) return Vec3::Zero();
+  return tr.final_state->joint_position(joint_of(tr.simulation->model, joint));
+}
+
+// Observed order of convergence (what: observed_order): the case's model with `runs` overrides at
+// each of `time_steps`, the error of a joint's final position against a run with `reference`
+// overrides; log(e_i / e_i+1) / log(h_i / h_i+1) for each pair of consecutive steps, each to be
+// within the tolerance of `expected`. The worst order is the value; the label lists them all.
+Result observed_order(const InputNode& c, const Trajectory& tr, MPI_Comm comm) {
+  c.allow_only({"what", "joint", "runs", "time_steps", "reference", "expected", "abs_tol", "rel_tol"});
+  const std::string model = tr.simulation->source;
+  const std::vector<double> steps = c["time_steps"].as_doubles();
+  if (steps.size() < 2) c["time_steps"].fail("expected at least two time steps, largest first");
+  for (std::size_t i = 0; i < steps.size(); ++i)
+    if (!(steps[i] > 0) || (i > 0 && !(steps[i] < steps[i - 1])))
+      c["time_steps"].fail("expected positive time steps, each smaller than the one before");
+  const std::vector<KeyOverride> runs = c.has("runs") ? overrides_of(c["runs"]) : std::vector<KeyOverride>{};
+  // Several checks of one case share their reference run: kept by joint and overrides.
+  struct ReferenceRun {
+    std::optional<Vec3> position;
+    double t = 0.0;
+    std::string message;
+  };
+  static std::map<std::string, ReferenceRun> references;
+  const std::string key = model + "|" + c["joint"].as_string() + "|" + YAML::Dump(c["reference"].yaml());
+  auto found = references.find(key);
+  if (found == references.end()) {
+    ReferenceRun run;
+    run.position = final_joint_position(model, overrides_of(c["reference"]), c["joint"], comm, &run.t, &run.message);
+    found = references.emplace(key, run).first;
+  }
+  const double t_ref = found->second.t;
+  const std::optional<Vec3> reference = found->second.position;
+  std::string message = found->second.message;
+  if (!reference) return Result{"observed_order: the reference run", NAN, "completes (" + message + ")", false};
+  std::vector<double> errors;
+  for (double h : steps) {
+    std::vector<KeyOverride> o = runs;
+    o.push_back(make_key_override("solver.dynamics.time_step", YAML::Node(h), c["time_steps"]));
+    double t = 0.0;
+    const std::optional<Vec3> x = final_joint_position(model, o, c["joint"], comm, &t, &message);
+    if (!x) return Result{"observed_order: the run at h = " + std::to_string(h), NAN, "completes (" + message + ")", false};
+    if (std::abs(t - t_ref) > 1e-9 * std::max(1.0, std::abs(t_ref))) c["time_steps"].fail("the runs end at different times");
+    errors.push_back((*x - *reference).norm());
+  }
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  if (rank != 0) return Result{};
+  const double expected = c["expected"].as_double();
+  std::string label = "observed_order " + c["joint"].as_string() + " (errors";
+  double worst = expected;
+  bool pass = true;
+  Result r;
+  char buf[64];
+  for (double e : errors) {
+    std::snprintf(buf, sizeof buf, " %.3g", e);
+    label += buf;
+  }
+  label += "; orders";
+  for (std::size_t i = 0; i + 1 < errors.size(); ++i) {
+    const double order = std::log(errors[i] / errors[i + 1]) / std::log(steps[i] / steps[i + 1]);
+    std::snprintf(buf, sizeof buf, " %.2f", order);
+    label += buf;
+    r = compare(c, "", order);
+    pass = pass && r.pass;
+    if (!std::isfinite(order) || std::abs(order - expected) > std::abs(worst - expected) || !std::isfinite(worst)) worst = order;
+  }
+  label += ")";
+  return Result{label, worst, r.expectation, pass};
+}
+
 // Evaluates one check on rank 0 (other ranks only take part in the runs it starts).
 Result evaluate(const InputNode& c, const Trajectory& tr, const std::filesystem::path& dir, MPI_Comm comm) {
   const std::string what = c["what"].as_choice({"axial_force", "displacement", "position", "multiplier", "period",
                                                  "energy_drift", "max_violation", "variation", "compare_run",
                                                  "mpi_consistency", "frequency", "buckling_factor", "limit_load",
                                                  "min_axial_force", "damping_ratio", "section_force",
-                                                 "member_stress", "pressure", "energy_balance"});
+                                                 "member_stress", "pressure", "energy_balance", "observed_order"});
   int rank = 0, size = 1;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &size);
   const Model& m = tr.simulation->model;
+  if (what == "observed_order") return observed_order(c, tr, comm);
   if (what == "compare_run" || what == "mpi_consistency") {
     Trajectory other;
     SimulationOutcome outcome;

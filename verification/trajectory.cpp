@@ -146,9 +146,10 @@ PetscErrorCode TrajectoryRecorder::finish(double t, Vec U, Vec V) {
 }
 
 PetscErrorCode run_and_record(const std::string& model_path, MPI_Comm comm, Trajectory* trajectory,
-                              SimulationOutcome* outcome, const std::string& results_directory) {
+                              SimulationOutcome* outcome, const std::string& results_directory,
+                              const std::vector<KeyOverride>& overrides) {
   PetscFunctionBeginUser;
-  trajectory->simulation = std::make_unique<Simulation>(read_simulation(model_path));
+  trajectory->simulation = std::make_unique<Simulation>(read_simulation(model_path, overrides));
   Simulation& sim = *trajectory->simulation;
   SystemAssembler sa(sim.model, comm);
   trajectory->dofs = std::make_unique<DofMap>(sa.dofs());

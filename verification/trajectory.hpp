@@ -4,6 +4,7 @@
 
 #include "drivers/observers.hpp"
 #include "drivers/simulation.hpp"
+#include "io/input_node.hpp"
 
 #include <memory>
 #include <optional>
@@ -62,10 +63,12 @@ class TrajectoryRecorder final : public StepObserver {
   Trajectory* out_;
 };
 
-/// Runs a model file on `comm` and records its trajectory (valid on rank 0 of comm); with a
-/// `results_directory` also writes the run's HDF5 / XDMF / probe CSV there, as `latticedyn run`
-/// would. Throws InputError for a bad model; a solver failure is returned in `outcome`.
+/// Runs a model file (with its keys replaced by `overrides` first) on `comm` and records its
+/// trajectory (valid on rank 0 of comm); with a `results_directory` also writes the run's HDF5 /
+/// XDMF / probe CSV there, as `latticedyn run` would. Throws InputError for a bad model; a solver
+/// failure is returned in `outcome`.
 PetscErrorCode run_and_record(const std::string& model_path, MPI_Comm comm, Trajectory* trajectory,
-                              SimulationOutcome* outcome, const std::string& results_directory = "");
+                              SimulationOutcome* outcome, const std::string& results_directory = "",
+                              const std::vector<KeyOverride>& overrides = {});
 
 }  // namespace latticedyn

@@ -194,6 +194,32 @@ TEST(Table, InvalidTablesThrow) {
                   {"Table", "not finite"});
 }
 
+// The minimum-jerk profile y_start + (y_end - y_start)(10 s^3 - 15 s^4 + 6 s^5): end values, its
+// symmetric midpoint (value halfway, peak rate 15/8 of the mean rate, no acceleration), rate and
+// acceleration zero at both ends (continuous there, unlike the cosine step's acceleration), and
+// derivatives that match finite differences.
+TEST(QuinticStep, StartsAndStopsWithoutAcceleration) {
+  const Drive d(Drive::QuinticStep{.t_start = 1.0, .t_end = 3.0, .y_start = -1.0, .y_end = 3.0});
+  EXPECT_EQ(d.evaluate(0.0).value, -1.0);
+  EXPECT_NEAR(d.evaluate(2.0).value, 1.0, 1e-14);
+  EXPECT_NEAR(d.evaluate(2.0).rate, 15.0 / 8.0 * 4.0 / 2.0, 1e-13);
+  EXPECT_NEAR(d.evaluate(2.0).accel, 0.0, 1e-13);
+  EXPECT_NEAR(d.evaluate(1.5).accel, 4.0 / 4.0 * 60.0 * 0.25 * 0.75 * 0.5, 1e-13);
+  EXPECT_EQ(d.evaluate(3.0).value, 3.0);
+  for (double t : {1.0, 3.0}) {
+    EXPECT_NEAR(d.evaluate(t).rate, 0.0, 1e-14);
+    EXPECT_NEAR(d.evaluate(t).accel, 0.0, 1e-14);
+    EXPECT_NEAR(d.evaluate(t - 1e-9).accel, 0.0, 1e-6);
+    EXPECT_NEAR(d.evaluate(t + 1e-9).accel, 0.0, 1e-6);
+  }
+  expect_continuous_at(as_fn(d), 1.0, true);
+  expect_continuous_at(as_fn(d), 3.0, true);
+  expect_derivatives_match_fd(as_fn(d), sample_times(1.0, 3.0, 40, {}, 0.0), 1e-5, 1e-7);
+  EXPECT_EQ(d.breakpoints(), (std::vector<double>{1.0, 3.0}));
+  expect_rejected(Drive::QuinticStep{.t_start = 2.0, .t_end = 1.0, .y_start = 0.0, .y_end = 1.0},
+                  {"QuinticStep", "t_end", "t_start"});
+}
+
 TEST(Sum, AddsItsTermsAndCopiesDeeply) {
   const Drive::Sine wobble{.amplitude = 0.1, .frequency = 2.0, .phase = 0.0, .offset = 0.0};
   const Drive::CosineStep step{.t_start = 1.0, .t_end = 3.0, .y_start = 0.0, .y_end = 2.0};
