@@ -326,12 +326,12 @@ int command_solve(Simulation& sim, const CommandOptions& opt, MPI_Comm comm, boo
     const double simulated = r.time_reached - sim.dynamics.t_start;
     std::snprintf(buf, sizeof buf,
                   "dynamics %s: %ld steps (%ld rejected), %ld Newton iterations (%.2f per step), %ld Jacobians, %ld "
-                  "rotation rescales, wall %.3g s (%.3g x real time), %d outputs; largest constraint violation over the "
-                  "run: %s\n",
+                  "rotation rescales, wall %.3g s (%.3g x real time), %d outputs in %.3g s; largest "
+                  "constraint violation over the run: %s\n",
                   r.completed ? "completed" : r.interrupted ? "INTERRUPTED" : "FAILED", r.steps, r.rejected_steps, r.newton_iterations,
                   r.steps ? static_cast<double>(r.newton_iterations) / r.steps : 0.0, r.jacobians, r.rotation_rescales,
                   r.wall_seconds,
-                  r.wall_seconds > 0 ? simulated / r.wall_seconds : 0.0, out.written(),
+                  r.wall_seconds > 0 ? simulated / r.wall_seconds : 0.0, out.written(), out.seconds(),
                   describe_violation(sim.model, r.max_violation, r.violation_constraint).c_str());
     if (r.interrupted)
       error_root(comm, std::string(r.message) + " by " + interrupt.signal_name() + "; results written up to there");

@@ -75,8 +75,10 @@ PetscErrorCode OutputObserver::write_checkpoint(const StepInfo& info) {
 PetscErrorCode OutputObserver::write(double t, Vec U, Vec V, Vec A, Parametrization param, bool gathered) {
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(log_events().output, 0, 0, 0, 0));
+  const auto start = std::chrono::steady_clock::now();
   if (!gathered) PetscCall(sa_.gather(t, U, V, A, param, &state_));
   if (writer_) PetscCallCXX(writer_->append(state_));
+  seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   PetscCall(PetscLogEventEnd(log_events().output, 0, 0, 0, 0));
   last_written_ = t;
   ++written_;

@@ -28,6 +28,9 @@ class OutputObserver final : public StepObserver {
   /// Goes on with the output schedule of a checkpoint whose results file the writer continues.
   void resume(const Checkpoint& c);
   int written() const { return written_; }
+  /// Wall seconds this rank spent in writing outputs (gathering the state included); on rank 0,
+  /// which writes, what the outputs cost the run.
+  double seconds() const { return seconds_; }
   /// The energy account on rank 0 (models with a hydraulic circuit), none otherwise. A restarted
   /// run's account starts at its checkpoint.
   const EnergyAccount* energy_account() const;
@@ -49,6 +52,7 @@ class OutputObserver final : public StepObserver {
   double interval_, t_end_;
   double next_ = 0.0, last_written_ = -1e300;
   int written_ = 0;
+  double seconds_ = 0.0;
   std::string integrator_;
   int checkpoints_ = 0;
   long checkpoint_step_ = -1;
