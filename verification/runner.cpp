@@ -244,7 +244,7 @@ Result observed_order(const InputNode& c, const Trajectory& tr, MPI_Comm comm) {
     label += buf;
     r = compare(c, "", order);
     pass = pass && r.pass;
-    if (!std::isfinite(order) || std::abs(order - expected) > std::abs(worst - expected) || !std::isfinite(worst)) worst = order;
+    if (std::isfinite(worst) && (!std::isfinite(order) || std::abs(order - expected) > std::abs(worst - expected))) worst = order;
   }
   label += ")";
   return Result{label, worst, r.expectation, pass};
