@@ -262,6 +262,30 @@ TEST(ModelReader, ReadsTheImplicitRungeKuttaRoute) {
   EXPECT_EQ(sim.dynamics.implicit_method, "rosw:rodas3");
 }
 
+// The quintic step by name: its values from the YAML keys; a span that ends before it starts is
+// an input error at the drive.
+TEST(ModelReader, ReadsAQuinticStepDrive) {
+  std::string text = kValid;
+  const std::string at = "swing: {type: cosine_step,";
+  ASSERT_NE(text.find(at), std::string::npos);
+  text.replace(text.find(at), at.size(), "swing: {type: quintic_step,");
+  const Simulation sim = read_simulation_from_string(text, "quintic.yaml");
+  ASSERT_EQ(sim.model.drives.size(), 1u);
+  const Drive& d = sim.model.drives[0];
+  EXPECT_NEAR(d.evaluate(0.5).value, 0.25, 1e-15);  // halfway, half of 0.5
+  EXPECT_NEAR(d.evaluate(0.5).rate, 15.0 / 8.0 * 0.5, 1e-14);
+  EXPECT_EQ(d.evaluate(0.0).accel, 0.0);
+  EXPECT_NE(d.describe().find("quintic step"), std::string::npos) << d.describe();
+  text.replace(text.find("t_end: 1,"), 9, "t_end: 0,");
+  try {
+    read_simulation_from_string(text, "quintic.yaml");
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("drives.swing"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("t_end"), std::string::npos) << e.what();
+  }
+}
+
 TEST(ModelReader, MissingFileIsAnInputError) {
   EXPECT_THROW(read_simulation("/nonexistent/model.yaml"), InputError);
 }
