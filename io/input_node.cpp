@@ -284,18 +284,28 @@ InputNode InputNode::child(const YAML::Node& n, const std::string& key) const {
 
 void InputNode::allow_only(std::initializer_list<const char*> allowed) const {
   if (!node_.IsMap()) fail("expected a map of keys");
-  std::set<std::string> seen;
+  // Every model item passes here: no allocation per key unless one is wrong (a million-unknown
+  // lattice has a few million keys).
+  std::vector<bool> seen(allowed.size(), false);
   for (auto it = node_.begin(); it != node_.end(); ++it) {
-    const std::string key = it->first.as<std::string>();
-    InputNode at(it->first, path_.empty() ? key : path_ + "." + key, file_of(key));
-    bool ok = false;
-    for (const char* a : allowed) ok = ok || key == a;
-    if (!ok) at.fail("unknown key '" + key + "' (expected one of: " + join(allowed) + ")");
-    if (!seen.insert(key).second) at.fail("key '" + key + "' appears twice");
+    const std::string& key = it->first.Scalar();
+    const auto at = [&] { return InputNode(it->first, path_.empty() ? key : path_ + "." + key, file_of(key)); };
+    std::size_t index = 0;
+    for (const char* a : allowed) {
+      if (key == a) break;
+      ++index;
+    }
+    if (index == allowed.size()) at().fail("unknown key '" + key + "' (expected one of: " + join(allowed) + ")");
+    if (seen[index]) at().fail("key '" + key + "' appears twice");
+    seen[index] = true;
   }
 }
 
-bool InputNode::has(const std::string& key) const { return node_.IsMap() && node_[key].IsDefined() && !node_[key].IsNull(); }
+bool InputNode::has(const std::string& key) const {
+  if (!node_.IsMap()) return false;
+  const YAML::Node n = node_[key];
+  return n.IsDefined() && !n.IsNull();
+}
 
 InputNode InputNode::operator[](const std::string& key) const {
   if (!node_.IsMap()) fail("expected a map with key '" + key + "'");
