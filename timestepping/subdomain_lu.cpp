@@ -29,8 +29,9 @@ PetscErrorCode use_subdomain_lu(KSP ksp) {
   PetscCall(register_saddle_point_ordering());
   // Flexible GMRES: right preconditioning that keeps the preconditioned directions, so a solve of
   // one iteration applies the subdomain LUs once (left-preconditioned GMRES applies them to the
-  // right-hand side first: 31 against 17 applications for 14 solves; lattice-bays, 245,760
-  // unknowns on 2 ranks: the linear solves 0.44 -> 0.28 s over 5 steps, docs/performance.md).
+  // right-hand side first: 31 against 17 applications for 14 solves, lattice-bays of 61,440
+  // unknowns on 2 ranks; at 245,760 the linear solves 0.44 -> 0.28 s over 5 steps,
+  // docs/performance.md).
   PetscCall(KSPSetType(ksp, KSPFGMRES));
   // 1e-8: Newton takes as many iterations as with an exact solve (lattice-bays up to 1e6 unknowns).
   PetscCall(KSPSetTolerances(ksp, 1e-8, PETSC_DEFAULT, PETSC_DEFAULT, 500));
