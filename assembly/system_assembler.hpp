@@ -10,6 +10,7 @@
 #include "assembly/load_term.hpp"
 #include "assembly/constraint_term.hpp"
 #include "assembly/local_state.hpp"
+#include "assembly/matrix_fill.hpp"
 #include "assembly/model_state.hpp"
 
 #include <petscmat.h>
@@ -108,6 +109,11 @@ class SystemAssembler {
   /// Constraint c's inputs at time t on the block states of the last compute_states.
   ConstraintInputs local_constraint_inputs(int c, double t) const;
   PetscErrorCode compute_states(const EvaluationSettings& how, bool with_chain, double cq, double cv, double ca);
+  /// cq d(T^T y)/dphi on the diagonal block of every rotation block (y: its rows' residual in
+  /// omega-variables), into J's values where rotation_fill_ knows the places, else by MatSetValues.
+  PetscErrorCode add_rotation_row_derivatives(Mat J, const std::vector<Vec3>& y, double cq);
+  /// Plans rotation_fill_ for J (assembled): one entry per needed rotation block, its three rows.
+  PetscErrorCode plan_rotation_fill(Mat J);
   void estimate_scales();
 
   const Model& model_;
@@ -130,6 +136,7 @@ class SystemAssembler {
   std::vector<char> constrained_;  // blocks of this rank's constraints: the only users of state_c_
   std::vector<Mat3> rows_T_;  // T(phi)^T per block (rotation-vector rates), identity otherwise
   std::vector<Vec3> phi_;     // rotation vectors of needed rotation blocks
+  MatrixFill rotation_fill_;  // places of the rotation blocks' diagonal blocks in the Jacobian
   double mass_scale_ = 1.0;
   double stiffness_scale_ = 1.0;
   double length_scale_ = 1.0;

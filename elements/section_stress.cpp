@@ -2,6 +2,7 @@
 #include "elements/section_stress.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 
@@ -23,26 +24,48 @@ double normal_stress(const SectionProperties& c, const SectionForces& f, double 
   return f.N / c.area + f.My * z / c.Iy - f.Mz * y / c.Iz;
 }
 
+constexpr int kTubePoints = 72;
+
+// cos and sin of the tube's checked angles 2 pi i / kTubePoints, computed once.
+const std::array<std::array<double, 2>, kTubePoints>& tube_angles() {
+  static const auto table = [] {
+    std::array<std::array<double, 2>, kTubePoints> t{};
+    for (int i = 0; i < kTubePoints; ++i) {
+      const double phi = 2 * std::numbers::pi * i / kTubePoints;
+      t[static_cast<std::size_t>(i)] = {std::cos(phi), std::sin(phi)};
+    }
+    return t;
+  }();
+  return table;
+}
+
 SectionStress round_tube(const SectionProperties& c, const SectionForces& f) {
   const double ro = c.outer_radius, ri = c.inner_radius;
   const double k = 4.0 / 3.0 * (ro * ro + ro * ri + ri * ri) / (ro * ro + ri * ri);
-  const double tau_t = f.T * ro / c.torsion_constant;
-  SectionStress s;
-  auto at = [&](double phi) {
-    const double y = ro * std::cos(phi), z = ro * std::sin(phi);
-    // Shear along the tangent (-sin, cos): torsion and the shear force's flow.
-    const double q_t = -f.Qy * std::sin(phi) + f.Qz * std::cos(phi);
-    take(s, Point{normal_stress(c, f, y, z), tau_t + k * q_t / c.area});
+  // On the outer fibre (y, z) = ro (cos phi, sin phi) both stresses are linear in (cos, sin):
+  // sigma = N/A + My z/Iy - Mz y/Iz, and along the tangent (-sin, cos) the torsion's and the shear
+  // force's flow tau = T ro/J + k (-Qy sin + Qz cos)/A. Their coefficients once per section, no
+  // division or root per point: the stresses were a quarter of the reduced crane's run (1.5e9 of
+  // 5.9e9 instructions, callgrind, combined maneuver) when each point evaluated them afresh.
+  const double s0 = f.N / c.area, s_cos = -f.Mz * ro / c.Iz, s_sin = f.My * ro / c.Iy;
+  const double t0 = f.T * ro / c.torsion_constant, t_cos = k * f.Qz / c.area, t_sin = -k * f.Qy / c.area;
+  double normal = 0.0, shear = 0.0, vm2 = 0.0;
+  auto at = [&](double cos_phi, double sin_phi) {
+    const double sigma = s0 + s_cos * cos_phi + s_sin * sin_phi;
+    const double tau = t0 + t_cos * cos_phi + t_sin * sin_phi;
+    normal = std::max(normal, std::abs(sigma));
+    shear = std::max(shear, std::abs(tau));
+    vm2 = std::max(vm2, sigma * sigma + 3 * tau * tau);
   };
-  constexpr int kPoints = 72;
-  for (int i = 0; i < kPoints; ++i) at(2 * std::numbers::pi * i / kPoints);
+  for (const auto& [cos_phi, sin_phi] : tube_angles()) at(cos_phi, sin_phi);
   // The extremes of bending, at (y, z) along (-Mz, My), and of the shear force's flow, where the
   // tangent lies along Q: exact maxima of the normal and the shear stress.
   for (double phi : {std::atan2(f.My, -f.Mz), std::atan2(-f.Qy, f.Qz)}) {
-    at(phi);
-    at(phi + std::numbers::pi);
+    const double cos_phi = std::cos(phi), sin_phi = std::sin(phi);
+    at(cos_phi, sin_phi);
+    at(-cos_phi, -sin_phi);
   }
-  return s;
+  return SectionStress{normal, shear, std::sqrt(vm2)};
 }
 
 SectionStress frame(const SectionProperties& c, const SectionForces& f) {
