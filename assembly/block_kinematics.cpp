@@ -9,9 +9,8 @@ namespace latticedyn {
 
 void block_kinematics(const DofBlock& block, const double* u, const double* v, const double* a,
                       Parametrization param, BlockState& s, BlockChain* chain, double cq, double cv,
-                      double ca, Mat3* tangent) {
+                      double ca) {
   const int n = block.size();
-  if (tangent) tangent->setIdentity();
   auto vec = [&](const double* p) {
     Vec3 x = Vec3::Zero();
     if (p)
@@ -55,7 +54,6 @@ void block_kinematics(const DofBlock& block, const double* u, const double* v, c
   s.rot = rc.R;
   s.vel = rc.omega;
   s.acc = rc.omega_dot;
-  if (tangent) *tangent = rc.T;
   if (chain) {
     chain->rows = rc.T.transpose();
     chain->col_K = rc.T;

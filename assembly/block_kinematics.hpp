@@ -25,11 +25,9 @@ struct BlockChain {
 
 /// u, v, a point at the block's first coordinate (v, a may be null: zero rates). Fixed blocks
 /// take their initial state. With `chain` non-null the chain maps are filled for (cq, cv, ca).
-/// With `tangent` non-null it receives T(phi) of a free rotation block in rotation-vector rates
-/// (the map its residual rows go through as T^T), the identity for every other block.
 void block_kinematics(const DofBlock& block, const double* u, const double* v, const double* a,
                       Parametrization param, BlockState& state, BlockChain* chain = nullptr,
-                      double cq = 1.0, double cv = 0.0, double ca = 0.0, Mat3* tangent = nullptr);
+                      double cq = 1.0, double cv = 0.0, double ca = 0.0);
 
 /// Element slot state seen through a binding's frame offset (rotation slots: R O, O^T omega).
 BlockState slot_state(const BlockState& block, SlotKind kind, const Mat3& offset);
