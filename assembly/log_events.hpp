@@ -11,7 +11,7 @@ struct LogEvents {
   PetscLogEvent element_jacobian;  ///< elements' K, C, M and their blocks into the matrix
   PetscLogEvent constraints;       ///< loads and constraint rows, residual and Jacobian
   PetscLogEvent block_states;      ///< the blocks' states from the solver's vectors (ghosts, rotations)
-  PetscLogEvent rotation_rows;     ///< the rotation blocks' rows mapped to phi-variables (T^T and its derivative)
+  PetscLogEvent rotation_rows;     ///< the Jacobian's d(T^T y)/dphi on the rotation blocks' diagonal blocks
   PetscLogEvent output;            ///< results of a step: gather, element outputs, HDF5, XDMF, probes
 };
 

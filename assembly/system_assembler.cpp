@@ -357,15 +357,16 @@ PetscErrorCode SystemAssembler::jacobian(const EvaluationPoint& at, const Evalua
   }
   PetscCall(PetscLogEventEnd(events.constraints, 0, 0, 0, 0));
 
+  const bool rotation_rows = rates && cq != 0.0;
   PetscCall(PetscLogEventBegin(events.rotation_rows, 0, 0, 0, 0));
-  if (rates && cq != 0.0) PetscCall(add_rotation_row_derivatives(J, y, cq));
+  if (rotation_rows) PetscCall(add_rotation_row_derivatives(J, y, cq));
   PetscCall(PetscLogEventEnd(events.rotation_rows, 0, 0, 0, 0));
 
   PetscCall(VecRestoreArrayRead(separate_uc_ ? uc_loc_ : u_loc_, &uc));
   PetscCall(MatAssemblyBegin(J, MAT_FINAL_ASSEMBLY));
   PetscCall(MatAssemblyEnd(J, MAT_FINAL_ASSEMBLY));
   if (!direct) PetscCall(elements_.plan_fill(J));
-  if (rates && cq != 0.0 && !rotation_fill_.ready_for(J)) PetscCall(plan_rotation_fill(J));
+  if (rotation_rows && !rotation_fill_.ready_for(J)) PetscCall(plan_rotation_fill(J));
   PetscFunctionReturn(0);
 }
 

@@ -123,6 +123,14 @@ DynamicSettings settings(const std::string& method, double h, double t_end = 1.0
   return s;
 }
 
+// Generalized-alpha (TSALPHA2) with rho_inf 0.9 and step h.
+DynamicSettings alpha_settings(double h) {
+  DynamicSettings s = settings("", h);
+  s.integrator = IntegratorKind::generalized_alpha;
+  s.rho_infinity = 0.9;
+  return s;
+}
+
 // The tip at t = 1 s by ARKIMEX 5 with h = 1e-3 (its error there is below 1e-12: the method's
 // fifth order from h = 0.01, where it errs by 1e-9).
 const Vec3& reference_tip(const DoublePendulum& dp) {
@@ -247,10 +255,7 @@ TEST(ImplicitRungeKutta, AdaptiveStepsFollowTheTolerance) {
 // accelerations oscillate undamped, the estimate never falls and at 1e-6 the steps shrink until
 // Newton fails: the model reader refuses that pairing.
 TEST(GeneralizedAlpha, AdaptiveStepsFollowTheTolerance) {
-  DynamicSettings s = settings("", 0.01);
-  s.integrator = IntegratorKind::generalized_alpha;
-  s.rho_infinity = 0.9;
-  const ToleranceRuns r = expect_tolerance_control<GeneralizedAlphaIntegrator>(s, 1e-6);
+  const ToleranceRuns r = expect_tolerance_control<GeneralizedAlphaIntegrator>(alpha_settings(0.01), 1e-6);
   EXPECT_GT(r.tight.report.steps, 5 * r.loose.report.steps);
   EXPECT_LT(r.tight.report.steps, 20 * r.loose.report.steps);
   EXPECT_LT(r.tight.report.max_violation, 1e-9);
@@ -289,10 +294,7 @@ TEST(ImplicitRungeKutta, ASlowSwingIsNotTakenForRest) {
 }
 
 TEST(GeneralizedAlpha, ASlowSwingIsNotTakenForRest) {
-  DynamicSettings s = settings("", 0.01);
-  s.integrator = IntegratorKind::generalized_alpha;
-  s.rho_infinity = 0.9;
-  expect_quarter_swing<GeneralizedAlphaIntegrator>(s, 1e-2);
+  expect_quarter_swing<GeneralizedAlphaIntegrator>(alpha_settings(0.01), 1e-2);
 }
 
 // A method the route does not have is refused by name.
