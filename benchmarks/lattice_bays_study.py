@@ -8,11 +8,17 @@
            (the stepping: the dynamics' wall less its two outputs, which are a column of their
            own), setup time (process wall minus the dynamics' wall), peak memory per unknown; a
            PNG of both against the number of unknowns. --mumps adds MUMPS on several ranks.
+  speedup: per size, one rank against the largest of --ranks in interleaved pairs (1, N, 1, N,
+           ... --repeat times): the stepping's ratio per pair, its median and range. On a shared
+           or virtual machine the speed of one run drifts by tens of per cent from hour to hour;
+           pairs taken back to back see the same machine, so their ratio is the honest figure.
 
   /usr/bin/python3 benchmarks/lattice_bays_study.py reuse --bays 10 640 --reuse 1 5 10 20 --steps 100 \\
       --out docs/perf/lattice_reuse
   /usr/bin/python3 benchmarks/lattice_bays_study.py scaling --bays 40 160 640 2560 10240 40960 \\
       --ranks 1 2 --steps 3 --mumps --out docs/perf/lattice_scaling
+  /usr/bin/python3 benchmarks/lattice_bays_study.py speedup --bays 10240 40960 --ranks 2 --steps 6 \\
+      --repeat 5 --out docs/perf/rank_speedup
 
 Writes <out>.csv and <out>.md (and <out>.png for scaling). Runs go to --work (default
 build/lattice_study/), one folder per run; a run whose log exists is not repeated unless --fresh.
@@ -155,6 +161,34 @@ def scaling_study(a):
     print(f"wrote {a.out}.png")
 
 
+def speedup_study(a):
+    ranks = max(a.ranks)
+    if ranks < 2:
+        sys.exit("speedup study: --ranks needs a count above 1")
+    rows, summary = [], []
+    for bays in a.bays:
+        ratios = []
+        for rep in range(a.repeat):
+            # Always rerun: a pair is only worth something if both halves ran back to back.
+            one = run(bays, a.steps, 1, 1, 1000.0, a.work, a.binary, True, tag=f"pair{rep}")
+            many = run(bays, a.steps, 1, ranks, 1000.0, a.work, a.binary, True, tag=f"pair{rep}")
+            s1 = one["stepping_ms_per_step"]
+            sn = many["stepping_ms_per_step"]
+            ratios.append(s1 / sn)
+            rows.append(dict(bays=bays, unknowns=one["unknowns"], pair=rep + 1, ranks=ranks, newton=one["newton"],
+                             ms_per_step_1=s1, ms_per_step_n=sn, speedup=s1 / sn))
+            print(f"{bays} bays ({one['unknowns']} unknowns), pair {rep + 1}: {s1:.1f} ms/step on 1 rank, {sn:.1f} on "
+                  f"{ranks}: {s1 / sn:.3f} x")
+        summary.append((bays, bays * 24, float(np.median(ratios)), min(ratios), max(ratios)))
+    write_table(a.out, rows, ["bays", "unknowns", "pair", "ranks", "newton", "ms_per_step_1", "ms_per_step_n", "speedup"])
+    with open(a.out + ".md", "a") as f:
+        f.write(f"\n| unknowns | {ranks} ranks against 1: median | min | max | pairs |\n| --- | --- | --- | --- | --- |\n")
+        for bays, unknowns, med, lo, hi in summary:
+            f.write(f"| {unknowns:,} | {med:.3f} | {lo:.3f} | {hi:.3f} | {a.repeat} |\n")
+    for bays, unknowns, med, lo, hi in summary:
+        print(f"{unknowns} unknowns: {ranks} ranks {med:.3f} x faster than 1 (median of {a.repeat} pairs; {lo:.3f}-{hi:.3f})")
+
+
 def write_table(out, rows, keys):
     os.makedirs(os.path.dirname(os.path.abspath(out)), exist_ok=True)
     with open(out + ".csv", "w", newline="") as f:
@@ -170,7 +204,7 @@ def write_table(out, rows, keys):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("study", choices=["reuse", "scaling"])
+    ap.add_argument("study", choices=["reuse", "scaling", "speedup"])
     ap.add_argument("--bays", type=int, nargs="+", required=True)
     ap.add_argument("--reuse", type=int, nargs="+", default=[1, 5, 10, 20], help="reuse study: the first is the reference")
     ap.add_argument("--ranks", type=int, nargs="+", default=[1])
@@ -179,11 +213,12 @@ def main():
     ap.add_argument("--work", default=os.path.join(ROOT, "build", "lattice_study"))
     ap.add_argument("--binary", default=os.path.join(ROOT, "build", "drivers", "latticedyn"))
     ap.add_argument("--fresh", action="store_true", help="rerun even where a log exists")
+    ap.add_argument("--repeat", type=int, default=5, help="speedup study: interleaved pairs per size")
     ap.add_argument("--mumps", action="store_true", help="scaling study: also MUMPS (-pc_type lu) on several ranks")
     a = ap.parse_args()
     if a.study == "reuse" and a.reuse[0] != 1:
         ap.error("the reuse study's first setting is the reference: 1")
-    (reuse_study if a.study == "reuse" else scaling_study)(a)
+    {"reuse": reuse_study, "scaling": scaling_study, "speedup": speedup_study}[a.study](a)
 
 
 if __name__ == "__main__":
