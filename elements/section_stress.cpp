@@ -59,9 +59,11 @@ SectionStress round_tube(const SectionProperties& c, const SectionForces& f) {
   };
   for (const auto& [cos_phi, sin_phi] : tube_angles()) at(cos_phi, sin_phi);
   // The extremes of bending, at (y, z) along (-Mz, My), and of the shear force's flow, where the
-  // tangent lies along Q: exact maxima of the normal and the shear stress.
-  for (double phi : {std::atan2(f.My, -f.Mz), std::atan2(-f.Qy, f.Qz)}) {
-    const double cos_phi = std::cos(phi), sin_phi = std::sin(phi);
+  // tangent lies along Q: exact maxima of the normal and the shear stress. The directions'
+  // cosines and sines by normalising, not through atan2, cos and sin (a third of this function).
+  for (const auto& [x, y] : {std::array{-f.Mz, f.My}, std::array{f.Qz, -f.Qy}}) {
+    const double r = std::sqrt(x * x + y * y);
+    const double cos_phi = r > 0 ? x / r : 1.0, sin_phi = r > 0 ? y / r : 0.0;
     at(cos_phi, sin_phi);
     at(-cos_phi, -sin_phi);
   }

@@ -13,6 +13,7 @@
 #include <functional>
 #include <stdexcept>
 #include <system_error>
+#include <vector>
 
 namespace latticedyn::io {
 
@@ -44,10 +45,10 @@ bool XdmfLayout::names_bodies() const {
 
 XdmfDocument::XdmfDocument(XdmfLayout layout) : layout_(std::move(layout)) {
   if (layout_.names_bodies())
-    for (const XdmfBody& body : layout_.bodies) named_bodies_.push_back(Block{xml_escape(body.name), {}, {}, {}});
+    for (const XdmfBody& body : layout_.bodies) named_bodies_.push_back(Block{xml_escape(body.name), {}, {}, {}, false});
   const auto& names = layout_.constraint_names;
   if (!names.empty() && static_cast<int>(names.size()) <= kMaxNamedConstraints)
-    for (const std::string& name : names) named_constraints_.push_back(Block{xml_escape(name), {}, {}, {}});
+    for (const std::string& name : names) named_constraints_.push_back(Block{xml_escape(name), {}, {}, {}, false});
   // Every step's grids are the same text but for the step's number, its time and the number of
   // steps: formatted once with marks there and cut into pieces, which add_step joins.
   format_step(std::string(1, kStepMark), std::string(1, kTimeMark));
@@ -65,6 +66,7 @@ XdmfDocument::XdmfDocument(XdmfLayout layout) : layout_(std::move(layout)) {
       from = then == Piece::gap ? at : at + 1;  // a mark is replaced, a gap only filled
     }
     b->step_pieces.push_back(Piece{b->grids.substr(from), Piece::end});
+    b->drawn = !b->grids.empty();
     b->grids.clear();
     b->gaps.clear();
   }
@@ -78,18 +80,7 @@ std::vector<XdmfDocument::Block*> XdmfDocument::blocks() {
 }
 
 void XdmfDocument::add_step(double time) {
-  const std::string step = std::to_string(steps_), time_text = format_double(time);
-  for (Block* b : blocks()) {
-    for (const Piece& p : b->step_pieces) {
-      b->grids += p.text;
-      switch (p.then) {
-        case Piece::step: b->grids += step; break;
-        case Piece::time: b->grids += time_text; break;
-        case Piece::gap: b->gaps.push_back(b->grids.size()); break;
-        case Piece::end: break;
-      }
-    }
-  }
+  time_texts_.push_back(format_double(time));
   ++steps_;
 }
 
@@ -245,45 +236,63 @@ void XdmfDocument::format_step(const std::string& step, const std::string& time_
   }
 }
 
-std::string XdmfDocument::text() const {
+// Every step's grids are joined from the pieces as they are written: the document is never held
+// whole, and adding a step stores only its time (a 60 s maneuver's XDMF is 11 MB; kept as text it
+// grew by copies into fresh pages, a tenth of the reduced crane's run on a host with costly page
+// faults).
+template <class Sink>
+void XdmfDocument::emit(Sink&& out) const {
   const std::string steps = std::to_string(steps_);
-  std::string x;
-  std::size_t size = 1024;
-  auto count = [&](const Block& b) { size += b.grids.size() + steps.size() * b.gaps.size() + 256; };
-  for (const Block* b : {&members_, &joints_, &constraints_}) count(*b);
-  for (const auto* named_blocks : {&named_bodies_, &named_constraints_})
-    for (const Block& b : *named_blocks) count(b);
-  x.reserve(size);
-  x += "<?xml version=\"1.0\" ?>\n<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n<Xdmf Version=\"2.0\">\n  <Domain>\n";
-  x += "    <Grid Name=\"" + xml_escape(layout_.title) + "\" GridType=\"Collection\" CollectionType=\"Spatial\">\n";
+  auto put = [&](const std::string& s) { out(s.data(), s.size()); };
+  put("<?xml version=\"1.0\" ?>\n<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n<Xdmf Version=\"2.0\">\n  <Domain>\n");
+  put("    <Grid Name=\"" + xml_escape(layout_.title) + "\" GridType=\"Collection\" CollectionType=\"Spatial\">\n");
   auto temporal = [&](const Block& b, const std::string& indent) {
-    x += indent + "<Grid Name=\"" + b.name + "\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
-    std::size_t from = 0;
-    for (std::size_t gap : b.gaps) {
-      x.append(b.grids, from, gap - from);
-      x += steps;
-      from = gap;
+    put(indent + "<Grid Name=\"" + b.name + "\" GridType=\"Collection\" CollectionType=\"Temporal\">\n");
+    char number[16];
+    for (int s = 0; s < steps_; ++s) {
+      const auto [number_end, ec] = std::to_chars(number, number + sizeof number, s);
+      for (const Piece& p : b.step_pieces) {
+        put(p.text);
+        switch (p.then) {
+          case Piece::step: out(number, static_cast<std::size_t>(number_end - number)); break;
+          case Piece::time: put(time_texts_[static_cast<std::size_t>(s)]); break;
+          case Piece::gap: put(steps); break;
+          case Piece::end: break;
+        }
+      }
     }
-    x.append(b.grids, from, std::string::npos);
-    x += indent + "</Grid>\n";
+    put(indent + "</Grid>\n");
   };
   // A spatial collection named `name` of one temporal collection per named block.
   auto named = [&](const char* name, const std::vector<Block>& named_blocks) {
     if (named_blocks.empty() || steps_ == 0) return;
-    x += std::string("      <Grid Name=\"") + name + "\" GridType=\"Collection\" CollectionType=\"Spatial\">\n";
+    put(std::string("      <Grid Name=\"") + name + "\" GridType=\"Collection\" CollectionType=\"Spatial\">\n");
     for (const Block& b : named_blocks) temporal(b, "        ");
-    x += "      </Grid>\n";
+    put("      </Grid>\n");
   };
-  if (!members_.grids.empty()) temporal(members_, "      ");
+  if (steps_ > 0 && members_.drawn) temporal(members_, "      ");
   named("members", named_bodies_);
   for (const Block* b : {&joints_, &constraints_})
-    if (!b->grids.empty()) temporal(*b, "      ");
+    if (steps_ > 0 && b->drawn) temporal(*b, "      ");
   named("constraints", named_constraints_);
-  x += "    </Grid>\n  </Domain>\n</Xdmf>\n";
+  put("    </Grid>\n  </Domain>\n</Xdmf>\n");
+}
+
+std::string XdmfDocument::text() const {
+  std::string x;
+  emit([&x](const char* data, std::size_t size) { x.append(data, size); });
   return x;
 }
 
+void XdmfDocument::write(std::FILE* file) const {
+  emit([file](const char* data, std::size_t size) { std::fwrite(data, 1, size, file); });
+}
+
 void replace_file(const std::filesystem::path& path, const std::string& text) {
+  replace_file(path, [&text](std::FILE* f) { std::fwrite(text.data(), 1, text.size(), f); });
+}
+
+void replace_file(const std::filesystem::path& path, const std::function<void(std::FILE*)>& write) {
   auto fail = [](const char* what, const std::filesystem::path& p, int err) {
     throw std::runtime_error(std::string("ResultWriter: cannot ") + what + " '" + p.string() +
                              "': " + std::strerror(err));
@@ -301,10 +310,26 @@ void replace_file(const std::filesystem::path& path, const std::string& text) {
     ::close(fd);
     fail("create", tmp, err);
   }
-  const bool written = std::fwrite(text.data(), 1, text.size(), f) == text.size();
-  const int write_errno = errno;
-  if (std::fclose(f) != 0) fail("write", tmp, errno);
-  if (!written) fail("write", tmp, write_errno);
+  // Writes of many small pieces: a buffer of 64 KiB makes them few system calls (a larger one
+  // costs more in fresh pages than it saves).
+  std::vector<char> buffer(std::size_t{64} << 10);
+  std::setvbuf(f, buffer.data(), _IOFBF, buffer.size());
+  errno = 0;
+  try {
+    write(f);
+  } catch (...) {
+    std::fclose(f);
+    ::unlink(tmp.c_str());  // no half-written temporary beside the old file, which stays
+    throw;
+  }
+  const bool written = std::ferror(f) == 0;
+  const int write_errno = errno != 0 ? errno : EIO;
+  const bool closed = std::fclose(f) == 0;
+  const int close_errno = errno;
+  if (!written || !closed) {
+    ::unlink(tmp.c_str());
+    fail("write", tmp, written ? close_errno : write_errno);
+  }
   std::error_code ec;
   std::filesystem::rename(tmp, path, ec);
   if (ec)

@@ -2,7 +2,9 @@
 // grids whose heavy data are hyperslabs of the /viz datasets, and the atomic file replacement.
 #pragma once
 
+#include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -50,9 +52,9 @@ inline constexpr int kMaxNamedBodies = 64;
 /// it), each with one Uniform grid per step selecting entry k of its time series. Blocks are collections
 /// of their own, not steps of one, so their names stay the same at every time (ParaView makes
 /// repeated grid names unique by numbering them). Attribute names carry their units
-/// ("axial_force [N]"). A step's grids are formatted once, as pieces each step joins with its
-/// number and time; text() only splices in the current number
-/// of steps, which every HDF DataItem declares.
+/// ("axial_force [N]"). A step's grids are formatted once, as pieces; a step adds only its time,
+/// and text() or write() join the pieces for every step with its number, its time and the current
+/// number of steps, which every HDF DataItem declares.
 class XdmfDocument {
  public:
   explicit XdmfDocument(XdmfLayout layout);
@@ -61,6 +63,8 @@ class XdmfDocument {
   int steps() const { return steps_; }
   /// The complete document for the steps added so far.
   std::string text() const;
+  /// Writes text() to `file` piece by piece, without holding it whole.
+  void write(std::FILE* file) const;
 
  private:
   /// Text of one step's grid up to where the step's number, its time or the number of steps
@@ -74,17 +78,23 @@ class XdmfDocument {
   /// pieces every step's grid is made of.
   struct Block {
     std::string name;
-    std::string grids;
-    std::vector<std::size_t> gaps;
+    std::string grids;              // while formatting the pieces
+    std::vector<std::size_t> gaps;  // the same
     std::vector<Piece> step_pieces;
+    bool drawn = false;  // the layout has this block (its pieces are not all empty)
   };
   /// Formats one step's grids of every block (step number and time as given) into the blocks.
   void format_step(const std::string& step, const std::string& time_text);
+  /// Passes the document to `out(const char*, std::size_t)` piece by piece.
+  template <class Sink>
+  void emit(Sink&& out) const;
   std::vector<Block*> blocks();
   XdmfLayout layout_;
-  Block members_{"members", {}, {}, {}}, joints_{"joints", {}, {}, {}}, constraints_{"constraints", {}, {}, {}};
+  Block members_{"members", {}, {}, {}, false}, joints_{"joints", {}, {}, {}, false},
+      constraints_{"constraints", {}, {}, {}, false};
   std::vector<Block> named_constraints_;  // one per constraint when they are named (XdmfLayout)
   std::vector<Block> named_bodies_;       // one per body when they are named
+  std::vector<std::string> time_texts_;  // each step's time as written
   int steps_ = 0;
 };
 
@@ -92,6 +102,9 @@ class XdmfDocument {
 /// never a partial one (rename within a directory is atomic). Throws std::runtime_error naming
 /// the path and the OS reason.
 void replace_file(const std::filesystem::path& path, const std::string& text);
+/// The same with the content written by `write` to the open temporary file (write errors found
+/// through ferror after it returns).
+void replace_file(const std::filesystem::path& path, const std::function<void(std::FILE*)>& write);
 
 /// The shortest decimal text that reads back to the same double.
 std::string format_double(double x);

@@ -43,6 +43,19 @@ TEST(SectionStress, RoundTubeBendingTorsionAndShear) {
   EXPECT_NEAR(section_stress(thin, 0.3, f).shear, 2 * 1e4 / thin.area, 1e-3 * 2e4 / thin.area);
   const SectionProperties solid = round_tube_section(0.1, 0.0);
   EXPECT_NEAR(section_stress(solid, 0.3, f).shear, 4.0 / 3.0 * 1e4 / solid.area, 1e-12 * 1e4 / solid.area);
+  // A shear force off the 5-degree grid of checked points (|Q| = 5e3 at -53.13 degrees): the
+  // exact extreme, which the grid alone would miss by up to 1e-3.
+  f = SectionForces{};
+  f.Qy = 3e3;
+  f.Qz = -4e3;
+  EXPECT_NEAR(section_stress(solid, 0.3, f).shear, 4.0 / 3.0 * 5e3 / solid.area, 1e-12 * 5e3 / solid.area);
+  // No bending and no shear force: the directions are arbitrary, the stresses those of N and T.
+  f = SectionForces{};
+  f.N = 1e5;
+  f.T = 1e3;
+  s = section_stress(c, 0.3, f);
+  EXPECT_NEAR(s.normal, 1e5 / c.area, 1e-12 * 1e5 / c.area);
+  EXPECT_NEAR(s.shear, 1e3 * ro / c.torsion_constant, 1e-12 * s.shear);
 }
 
 TEST(SectionStress, FrameBendingAndBredtTorsion) {

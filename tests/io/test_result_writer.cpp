@@ -810,6 +810,56 @@ TEST(Xdmf, ConstraintsAreNamedBlocksUpToALimit) {
   }
 }
 
+// The writer streams the document piece by piece (io::XdmfDocument::write): the same bytes as
+// text(), for no steps, one and many (the step count every HDF item declares grows with them).
+TEST(Xdmf, WriteStreamsTheSameTextAsText) {
+  ScratchDir dir;
+  fs::create_directories(dir.path);
+  io::XdmfLayout layout{"r.h5", "t", 4, 2, 5, 3, {"a", "b", "c"}, {}};
+  io::XdmfDocument doc(layout);
+  const fs::path path = dir.path / "r.xdmf";
+  for (int steps = 0; steps <= 12; steps += 4) {
+    while (doc.steps() < steps) doc.add_step(0.25 * doc.steps());
+    io::replace_file(path, [&doc](std::FILE* f) { doc.write(f); });
+    std::ifstream in(path, std::ios::binary);
+    const std::string written((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    EXPECT_EQ(written, doc.text()) << steps << " steps";
+    if (steps > 0) EXPECT_NE(written.find("Dimensions=\"" + std::to_string(steps) + " 5 3\""), std::string::npos);
+  }
+  EXPECT_NE(doc.text().find("<Time Value=\"2.75\"/>"), std::string::npos);  // step 11's time
+}
+
+// A writer that fails leaves the file as it was and no temporary beside it.
+TEST(Xdmf, ReplaceFileKeepsTheOldFileWhenWritingFails) {
+  ScratchDir dir;
+  fs::create_directories(dir.path);
+  const fs::path path = dir.path / "r.xdmf";
+  io::replace_file(path, std::string("old"));
+  EXPECT_THROW(io::replace_file(path,
+                                [](std::FILE* f) {
+                                  std::fputs("half", f);
+                                  throw std::runtime_error("interrupted");
+                                }),
+               std::runtime_error);
+  std::ifstream in(path);
+  std::string text;
+  std::getline(in, text);
+  EXPECT_EQ(text, "old");
+  EXPECT_FALSE(fs::exists(dir.path / "r.xdmf.tmp"));
+  // A stream in error (here: written to after reading was asked for) is a write failure named
+  // after the temporary, which is removed.
+  try {
+    io::replace_file(path, [](std::FILE* f) { std::fgetc(f); });
+    FAIL() << "expected a write error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("cannot write"), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(fs::exists(dir.path / "r.xdmf.tmp"));
+  std::ifstream again(path);
+  std::getline(again, text);
+  EXPECT_EQ(text, "old");
+}
+
 // Bodies get a block each when asked, named after them, up to kMaxNamedBodies; beyond, or
 // not asked (no bodies in the layout), one "members" block of all.
 TEST(Xdmf, BodiesAreNamedBlocksUpToALimit) {
