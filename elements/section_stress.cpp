@@ -24,7 +24,7 @@ double normal_stress(const SectionProperties& c, const SectionForces& f, double 
   return f.N / c.area + f.My * z / c.Iy - f.Mz * y / c.Iz;
 }
 
-constexpr int kTubePoints = 72;
+constexpr int kTubePoints = 72;  // even: the points come in opposite pairs
 
 // cos and sin of the tube's checked angles 2 pi i / kTubePoints, computed once.
 const std::array<std::array<double, 2>, kTubePoints>& tube_angles() {
@@ -57,7 +57,17 @@ SectionStress round_tube(const SectionProperties& c, const SectionForces& f) {
     shear = std::max(shear, std::abs(tau));
     vm2 = std::max(vm2, sigma * sigma + 3 * tau * tau);
   };
-  for (const auto& [cos_phi, sin_phi] : tube_angles()) at(cos_phi, sin_phi);
+  // The checked points in opposite pairs (phi, phi + pi), where the linear parts p and q of sigma
+  // and tau change sign: sigma^2 + 3 tau^2 = s0^2 + 3 t0^2 + p^2 + 3 q^2 +- 2 (s0 p + 3 t0 q),
+  // the larger of the two with the sum's magnitude (every term then non-negative). Only von Mises
+  // needs the grid: the normal and the shear stress take their exact maxima at the extremes below.
+  const double base = s0 * s0 + 3 * t0 * t0;
+  const auto& angles = tube_angles();
+  for (int i = 0; i < kTubePoints / 2; ++i) {
+    const auto& [cos_phi, sin_phi] = angles[static_cast<std::size_t>(i)];
+    const double p = s_cos * cos_phi + s_sin * sin_phi, q = t_cos * cos_phi + t_sin * sin_phi;
+    vm2 = std::max(vm2, base + p * p + 3 * q * q + 2 * std::abs(s0 * p + 3 * t0 * q));
+  }
   // The extremes of bending, at (y, z) along (-Mz, My), and of the shear force's flow, where the
   // tangent lies along Q: exact maxima of the normal and the shear stress. The directions'
   // cosines and sines by normalising, not through atan2, cos and sin (a third of this function).

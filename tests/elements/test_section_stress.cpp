@@ -58,6 +58,36 @@ TEST(SectionStress, RoundTubeBendingTorsionAndShear) {
   EXPECT_NEAR(s.shear, 1e3 * ro / c.torsion_constant, 1e-12 * s.shear);
 }
 
+// Against a plain evaluation of the round tube's outer fibre: sigma = N/A + My z/Iy - Mz y/Iz and
+// tau = T ro/J + k (Qz cos - Qy sin)/A at (y, z) = ro (cos, sin). The normal and the shear stress
+// are the exact maxima over the circle (|a0| + |(a1, a2)| for a0 + a1 cos + a2 sin), von Mises lies
+// between the largest of the 72 checked points and the circle's true maximum (20,000 points).
+TEST(SectionStress, RoundTubeAgainstTheFibreItself) {
+  const double ro = 0.05, ri = 0.04;
+  const SectionProperties c = round_tube_section(ro, ri);
+  const double k = 4.0 / 3.0 * (ro * ro + ro * ri + ri * ri) / (ro * ro + ri * ri);
+  const SectionForces cases[] = {{1e5, 2e3, -3e3, 4e2, 7e3, 2e3},  {-2e5, -1e4, 5e3, -3e3, -1e3, 4e3},
+                                 {0.0, 0.0, 0.0, 0.0, 1e4, -1e4},  {3e4, 0.0, 0.0, 5e3, 0.0, 0.0},
+                                 {0.0, 5e3, 5e3, 0.0, 0.0, 0.0},    {-1e3, 0.0, 2e4, 1e3, -2e3, 0.0}};
+  for (const SectionForces& f : cases) {
+    const double s0 = f.N / c.area, s1 = -f.Mz * ro / c.Iz, s2 = f.My * ro / c.Iy;
+    const double t0 = f.T * ro / c.torsion_constant, t1 = k * f.Qz / c.area, t2 = -k * f.Qy / c.area;
+    auto vm_at = [&](double phi) {
+      const double sigma = s0 + s1 * std::cos(phi) + s2 * std::sin(phi), tau = t0 + t1 * std::cos(phi) + t2 * std::sin(phi);
+      return std::sqrt(sigma * sigma + 3 * tau * tau);
+    };
+    double grid = 0.0, fine = 0.0;
+    for (int i = 0; i < 72; ++i) grid = std::max(grid, vm_at(2 * kPi * i / 72));
+    for (int i = 0; i < 20000; ++i) fine = std::max(fine, vm_at(2 * kPi * i / 20000));
+    const SectionStress s = section_stress(c, 0.3, f);
+    const double scale = std::abs(s0) + std::hypot(s1, s2) + std::abs(t0) + std::hypot(t1, t2);
+    EXPECT_NEAR(s.normal, std::abs(s0) + std::hypot(s1, s2), 1e-13 * scale);
+    EXPECT_NEAR(s.shear, std::abs(t0) + std::hypot(t1, t2), 1e-13 * scale);
+    EXPECT_GE(s.von_mises, grid * (1 - 1e-13));
+    EXPECT_LE(s.von_mises, fine * (1 + 1e-6));  // the fine grid's own gap: (pi / 20000)^2 / 2
+  }
+}
+
 TEST(SectionStress, FrameBendingAndBredtTorsion) {
   const double h = 0.4, b = 0.2, t = 0.01;
   const SectionProperties c = frame_section(h, b, t);
