@@ -184,15 +184,20 @@ Series Series::reopen(hid_t parent, const std::string& name, std::vector<hsize_t
   return s;
 }
 
-void Series::append(const double* row) {
-  if (single_)
-    pending_single_.insert(pending_single_.end(), row, row + row_size_);
-  else
-    pending_.insert(pending_.end(), row, row + row_size_);
+double* Series::append_row() {
+  const std::size_t n = pending_.size();
+  pending_.resize(n + static_cast<std::size_t>(row_size_));
+  return pending_.data() + n;
+}
+
+void Series::append(const double* row) { std::copy(row, row + row_size_, append_row()); }
+
+void Series::discard_rows_after(std::size_t rows) {
+  pending_.resize(std::min(pending_.size(), rows * static_cast<std::size_t>(row_size_)));
 }
 
 void Series::write_pending(const Hdf5Context& ctx) {
-  const std::size_t entries = single_ ? pending_single_.size() : pending_.size();
+  const std::size_t entries = pending_.size();
   const auto rows = static_cast<hsize_t>(entries / static_cast<std::size_t>(row_size_));
   if (rows == 0) return;
   const std::string what = "write steps " + std::to_string(written_) + ".." + std::to_string(written_ + rows - 1) +
@@ -210,6 +215,7 @@ void Series::write_pending(const Hdf5Context& ctx) {
             what);
   const Hid mem_space = ctx.own(H5Screate_simple(rank, count.data(), nullptr), H5Sclose, what);
   if (single_) {
+    pending_single_.assign(pending_.begin(), pending_.end());
     ctx.check(H5Dwrite(ds_.get(), H5T_NATIVE_FLOAT, mem_space.get(), file_space.get(), H5P_DEFAULT,
                        pending_single_.data()),
               what);

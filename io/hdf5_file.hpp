@@ -5,6 +5,7 @@
 #include <hdf5.h>
 
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -101,9 +102,19 @@ class Series {
 
   int row_size() const { return row_size_; }
   /// Bytes of the entries kept in memory until write_pending().
-  std::size_t pending_bytes() const { return pending_.size() * sizeof(double) + pending_single_.size() * sizeof(float); }
+  std::size_t pending_bytes() const { return pending_.size() * sizeof(double); }
+  /// Entries kept in memory until write_pending().
+  std::size_t pending_rows() const { return pending_.size() / static_cast<std::size_t>(row_size_); }
+  /// Room for `rows` entries kept between writes, allocated once (growing by doubling touches
+  /// twice the memory, every new page a fault).
+  void reserve_rows(std::size_t rows) { pending_.reserve(rows * static_cast<std::size_t>(row_size_)); }
+  /// Space for the next entry (row-major, row_size() doubles, not initialised), kept until
+  /// write_pending(): the caller fills it whole before the next call, without a copy in between.
+  double* append_row();
   /// Keeps the next entry (row-major `row`) until write_pending().
   void append(const double* row);
+  /// Forgets the entries appended after the first `rows` still pending (a step whose filling failed).
+  void discard_rows_after(std::size_t rows);
   /// Extends the time axis by the entries appended since the last call and writes them, all in
   /// one HDF5 call (per-call costs, not bytes, dominate the writing of small rows).
   void write_pending(const Hdf5Context& ctx);
@@ -115,9 +126,28 @@ class Series {
   std::vector<hsize_t> row_;
   int row_size_ = 0;
   hsize_t written_ = 0;         // entries in the file
-  std::vector<double> pending_;        // entries appended since, row after row
-  std::vector<float> pending_single_;  // the same for a series stored as float
-  bool single_ = false;                // stored as float: converted on append (HDF5's conversion is slower)
+  // A vector whose resize leaves new doubles uninitialised: rows are written once, by their filler.
+  template <class T>
+  struct UninitializedAllocator : std::allocator<T> {
+    template <class U>
+    struct rebind {
+      using other = UninitializedAllocator<U>;
+    };
+    UninitializedAllocator() = default;
+    template <class U>
+    UninitializedAllocator(const UninitializedAllocator<U>&) noexcept {}
+    template <class U>
+    void construct(U* p) noexcept {
+      ::new (static_cast<void*>(p)) U;
+    }
+    template <class U, class... Args>
+    void construct(U* p, Args&&... args) {
+      ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+    }
+  };
+  std::vector<double, UninitializedAllocator<double>> pending_;  // entries appended since, row after row
+  std::vector<float> pending_single_;  // a series stored as float: its pending entries converted to write
+  bool single_ = false;                // stored as float: converted here (HDF5's conversion is slower)
   Hid ds_;
 };
 

@@ -92,7 +92,8 @@ struct ResultWriter::Impl {
   std::vector<double> points;   // viz points, 3 per point
   std::vector<double> joint_axes;  // per joint its frame's columns, 9 per joint
   std::vector<ConstraintReaction> reactions;  // per constraint
-  std::vector<double> row;      // one dataset's row of the current step
+  // Per drawn line its member in element_out (or none), found once per step for the per-line series.
+  std::vector<const MemberStress*> line_members;
   std::optional<MemberPeak> peak;  // the most utilized member over the steps appended
 
   Impl(const Model& m, ResultWriterOptions o);
@@ -149,10 +150,7 @@ struct ResultWriter::Impl {
   /// Fills a per-line dataset with one number of each line's member (NaN without one).
   std::function<void(const ModelState&, double*)> per_line(double (*of)(const MemberStress&)) const {
     return [this, of](const ModelState&, double* out) {
-      for (std::size_t l = 0; l < viz->line_element().size(); ++l) {
-        const MemberStress* m = line_member(l);
-        out[l] = m ? of(*m) : std::numeric_limits<double>::quiet_NaN();
-      }
+      for (const MemberStress* m : line_members) *out++ = m ? of(*m) : std::numeric_limits<double>::quiet_NaN();
     };
   }
   void track_peak(double time);
@@ -536,13 +534,13 @@ void ResultWriter::Impl::create_viz() {
   // The members' section forces and stresses, per line like the axial force.
   add(g.get(), "section_forces", {nl, 12}, "N (N, Qy, Qz), N*m (T, My, Mz); end 1, then end 2; element frame",
       [this](const ModelState&, double* out) {
-        for (std::size_t l = 0; l < viz->line_element().size(); ++l, out += 12) {
-          const MemberStress* m = line_member(l);
+        for (const MemberStress* m : line_members) {
           for (int k = 0; k < 2; ++k) {
             const SectionForces f = m ? m->end[static_cast<std::size_t>(k)] : SectionForces{};
             const double v[6] = {f.N, f.Qy, f.Qz, f.T, f.My, f.Mz};
             for (int i = 0; i < 6; ++i) out[6 * k + i] = m ? v[i] : std::numeric_limits<double>::quiet_NaN();
           }
+          out += 12;
         }
       });
   add(g.get(), "von_mises", {nl}, "Pa", per_line([](const MemberStress& m) { return m.von_mises; }));
@@ -610,6 +608,8 @@ void ResultWriter::Impl::compute_step(const ModelState& state) {
     flow_values[f] = element_flows[c.index];
   }
   viz->points(state, element_out, points);
+  line_members.resize(viz->line_element().size());
+  for (std::size_t l = 0; l < line_members.size(); ++l) line_members[l] = line_member(l);
   joint_axes.resize(9 * model.joints.size());
   for (std::size_t j = 0; j < model.joints.size(); ++j) {
     const Mat3 R = state.joint_frame_of(static_cast<int>(j)).second;
@@ -743,19 +743,23 @@ void ResultWriter::append(const ModelState& state) {
   // The .h5 first (its rows kept until the next flush), then the XDMF after a flush: it only ever
   // names steps that are on disk.
   const io::QuietHdf5Errors quiet;
+  const std::size_t kept = w.outputs.empty() ? 0 : w.outputs.front().series.pending_rows();
   try {
     if (first) {
       w.create_viz();
       w.create_state(static_cast<hsize_t>(state.coordinates().size()));
     }
-    // Every fill writes its whole row: one buffer, as long as the longest, without zeroing.
-    for (auto& o : w.outputs) {
-      const auto n = static_cast<std::size_t>(o.series.row_size());
-      if (w.row.size() < n) w.row.resize(n);
-      o.fill(state, w.row.data());
-      o.series.append(w.row.data());
+    if (first) {
+      // The rows kept between writes (see kPendingBytes) get their memory once.
+      std::size_t step_bytes = 0;
+      for (const auto& o : w.outputs) step_bytes += sizeof(double) * static_cast<std::size_t>(o.series.row_size());
+      const std::size_t rows = kPendingBytes / std::max<std::size_t>(step_bytes, 1) + 1;
+      for (auto& o : w.outputs) o.series.reserve_rows(rows);
     }
+    // Every fill writes its whole row, straight into the series' pending rows.
+    for (auto& o : w.outputs) o.fill(state, o.series.append_row());
   } catch (...) {
+    for (auto& o : w.outputs) o.series.discard_rows_after(kept);
     w.broken = true;
     throw;
   }
