@@ -17,5 +17,6 @@ cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DLATTICEDYN_SANITI
 export ASAN_OPTIONS=detect_leaks=0:abort_on_error=1:strict_string_checks=1
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 cmake --build "$build_dir" -j "$jobs"
+echo "sanitize.sh: the build took $((SECONDS / 60)) min $((SECONDS % 60)) s"
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
 ctest --test-dir "$build_dir" --output-on-failure -j "$(nproc)" -L "unit|verification" -LE "mpi|study" "$@"
