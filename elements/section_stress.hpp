@@ -24,11 +24,11 @@ using SectionForces = SectionForcesT<double>;
 struct SectionStress {
   double normal = 0.0;     ///< largest |sigma| (axial plus bending)
   double shear = 0.0;      ///< largest |tau| (shear force plus torsion)
-  double von_mises = 0.0;  ///< largest sqrt(sigma^2 + 3 tau^2) over the section's checked points
+  double von_mises = 0.0;  ///< largest sqrt(sigma^2 + 3 tau^2) over the section's checked points (a tube's whole fibre)
 };
 
-/// Stresses at the checked points of the section: round tubes at 72 points of the outer fibre and
-/// at the extremes of bending and of the shear flow
+/// Stresses at the checked points of the section: round tubes over their whole outer fibre, each
+/// stress at its exact maximum on the circle (von Mises's as a trust-region subproblem)
 /// (sigma = N/A + My z/Iy - Mz y/Iz; tau = T r/J plus the shear force's k (Q . t)/A along the
 /// tangent t, k = 4/3 (ro^2 + ro ri + ri^2)/(ro^2 + ri^2), 2 for a thin tube, 4/3 solid); frames at
 /// the four corners and the four wall middles (Bredt's torsion T/(2 A_m t), the shear force's
