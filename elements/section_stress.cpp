@@ -67,23 +67,20 @@ double largest_on_circle(double s0, double sc, double ss, double t0, double tc, 
     }
     return std::array{value, slope};
   };
+  // In the hard case (beta_1 = 0, the circle's maximum where A's own direction fills it) x stays
+  // at lo; otherwise Newton on 1/sqrt(S(x)) - 1, concave and increasing (More & Sorensen): from
+  // lo, where it is not positive, every iterate stays left of the root and approaches it
+  // monotonically.
   double x = lo;
-  if (q1 == 0.0 && (lo == 0.0 || secular(lo)[0] <= 1.0)) {
-    x = lo;  // the hard case: beta_1 = 0 and the circle's maximum where A's own direction fills it
-  } else {
-    // Newton on 1/sqrt(S(x)) - 1, concave and increasing (More & Sorensen): from lo, where it is
-    // not positive, every iterate stays left of the root and approaches it monotonically.
-    for (int it = 0; it < 100; ++it) {
-      const auto [value, slope] = secular(x);
-      const double inv = 1.0 / std::sqrt(value);
-      const double step = (inv - 1.0) / (0.5 * inv * inv * inv * slope);  // -psi / psi'
-      const double next = std::clamp(x + step, lo, hi);
-      if (!(std::abs(next - x) > 4 * std::numeric_limits<double>::epsilon() * next)) {
-        x = next;
-        break;
-      }
-      x = next;
-    }
+  const bool hard_case = q1 == 0.0 && (lo == 0.0 || secular(lo)[0] <= 1.0);
+  for (int it = 0; !hard_case && it < 100; ++it) {
+    const auto [value, slope] = secular(x);
+    const double inv = 1.0 / std::sqrt(value);
+    const double step = (inv - 1.0) / (0.5 * inv * inv * inv * slope);  // -psi / psi'
+    const double next = std::clamp(x + step, lo, hi);
+    const bool converged = !(std::abs(next - x) > 4 * std::numeric_limits<double>::epsilon() * next);
+    x = next;
+    if (converged) break;
   }
   double f = c + lambda1 + x;
   if (q1 > 0) f += q1 / x;
@@ -103,6 +100,7 @@ SectionStress round_tube(const SectionProperties& c, const SectionForces& f) {
   const double t0 = f.T * ro / c.torsion_constant, t_cos = k * f.Qz / c.area, t_sin = -k * f.Qy / c.area;
   double normal = 0.0, shear = 0.0;
   double vm2 = largest_on_circle(s0, s_cos, s_sin, t0, t_cos, t_sin);
+  // The extremes below may still raise vm2 by an ulp of the closed form's round-off.
   auto at = [&](double cos_phi, double sin_phi) {
     const double sigma = s0 + s_cos * cos_phi + s_sin * sin_phi;
     const double tau = t0 + t_cos * cos_phi + t_sin * sin_phi;

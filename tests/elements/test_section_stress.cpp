@@ -76,7 +76,8 @@ double brute_force_maximum(const G& g) {
     const double r = (std::sqrt(5.0) - 1) / 2;
     for (int it = 0; it < 80; ++it) {
       const double x1 = b - r * (b - a), x2 = a + r * (b - a);
-      (g(x1) < g(x2) ? a : b) = (g(x1) < g(x2) ? x1 : x2);
+      const bool rising = g(x1) < g(x2);
+      (rising ? a : b) = rising ? x1 : x2;
     }
     best = std::max({best, here, g(0.5 * (a + b))});
   }
