@@ -31,7 +31,9 @@ using io::Hid;
 
 namespace {
 
-constexpr int kFormatVersion = 3;  // 2: joint axes, constraint reactions, XDMF blocks; 3: body blocks
+// 2: joint axes, constraint reactions, XDMF blocks; 3: body blocks; 4: polyline cells, the
+// members' results once per member instead of once per drawn segment.
+constexpr int kFormatVersion = 4;
 constexpr std::size_t kPendingBytes = std::size_t{4} << 20;  // rows kept in memory between writes
 
 double square(double x) { return x * x; }
@@ -92,8 +94,8 @@ struct ResultWriter::Impl {
   std::vector<double> points;   // viz points, 3 per point
   std::vector<double> joint_axes;  // per joint its frame's columns, 9 per joint
   std::vector<ConstraintReaction> reactions;  // per constraint
-  // Per drawn line its member in element_out (or none), found once per step for the per-line series.
-  std::vector<const MemberStress*> line_members;
+  // Per drawn cell its member in element_out (or none), found once per step for the per-cell series.
+  std::vector<const MemberStress*> cell_members;
   std::optional<MemberPeak> peak;  // the most utilized member over the steps appended
 
   Impl(const Model& m, ResultWriterOptions o);
@@ -139,18 +141,18 @@ struct ResultWriter::Impl {
     return names;
   }
   void continue_probes();
-  /// The member a drawn line belongs to, or none (rigid bodies' lines, elements without members).
-  const MemberStress* line_member(std::size_t line) const {
-    const int e = viz->line_element()[line];
+  /// The member a drawn cell is, or none (rigid bodies' cells, elements without members).
+  const MemberStress* cell_member(std::size_t cell) const {
+    const int e = viz->cell_element()[cell];
     if (e < 0) return nullptr;
     const auto& members = element_out[static_cast<std::size_t>(e)].members;
-    const auto m = static_cast<std::size_t>(viz->line_polyline()[line]);
+    const auto m = static_cast<std::size_t>(viz->cell_polyline()[cell]);
     return m < members.size() ? &members[m] : nullptr;
   }
-  /// Fills a per-line dataset with one number of each line's member (NaN without one).
-  std::function<void(const ModelState&, double*)> per_line(double (*of)(const MemberStress&)) const {
+  /// Fills a per-cell dataset with one number of each cell's member (NaN without one).
+  std::function<void(const ModelState&, double*)> per_cell(double (*of)(const MemberStress&)) const {
     return [this, of](const ModelState&, double* out) {
-      for (const MemberStress* m : line_members) *out++ = m ? of(*m) : std::numeric_limits<double>::quiet_NaN();
+      for (const MemberStress* m : cell_members) *out++ = m ? of(*m) : std::numeric_limits<double>::quiet_NaN();
     };
   }
   void track_peak(double time);
@@ -234,6 +236,17 @@ void ResultWriter::Impl::open_existing() {
   if (!fs::is_regular_file(h5, ec)) throw std::runtime_error("ResultWriter: cannot continue '" + h5.string() + "': no such file");
   const io::QuietHdf5Errors quiet;
   file = ctx.own(H5Fopen(h5.c_str(), H5F_ACC_RDWR, H5P_DEFAULT), H5Fclose, "open the file to continue it");
+  // Only a file of this format can be extended: the rows of its series are this format's.
+  int version = 0;
+  if (H5Aexists(file.get(), "format_version") > 0) {
+    const Hid attr = ctx.own(H5Aopen(file.get(), "format_version", H5P_DEFAULT), H5Aclose, "read its format_version");
+    ctx.check(H5Aread(attr.get(), H5T_NATIVE_INT, &version), "read its format_version");
+  }
+  if (version != kFormatVersion)
+    throw std::runtime_error("ResultWriter: cannot continue '" + h5.string() + "': it is of results format " +
+                             std::to_string(version) + ", this latticedyn writes format " +
+                             std::to_string(kFormatVersion) +
+                             " (docs/output-format.md); run from the start, or continue with the latticedyn that wrote it");
   const auto keep = static_cast<hsize_t>(c.steps);
   {
     const Hid times = ctx.own(H5Dopen2(file.get(), "time", H5P_DEFAULT), H5Dclose, "open /time");
@@ -499,15 +512,18 @@ void ResultWriter::Impl::create_state(hsize_t size) {
 }
 
 void ResultWriter::Impl::create_viz() {
-  const auto np = static_cast<hsize_t>(viz->num_points()), nl = static_cast<hsize_t>(viz->num_lines());
+  const auto np = static_cast<hsize_t>(viz->num_points()), nl = static_cast<hsize_t>(viz->num_cells());
   if (nl == 0) return;  // nothing to draw: no /viz and no XDMF
   const Hid g = group(file.get(), "viz");
   const int nj = static_cast<int>(model.joints.size()), nc = static_cast<int>(model.constraints.size());
   if (!continuing) {
-    io::write_ints(g.get(), "lines", viz->lines(), ctx, 2);
-    io::write_ints(g.get(), "body", viz->line_body(), ctx);
-    io::write_ints(g.get(), "element", viz->line_element(), ctx);
-    io::write_ints(g.get(), "member", viz->line_polyline(), ctx);  // the member within the element
+    io::write_ints(g.get(), "cells", viz->cells(), ctx);
+    io::write_ints(g.get(), "cell_offsets", viz->cell_offsets(), ctx);
+    io::write_ints(g.get(), "body", viz->cell_body(), ctx);
+    io::write_ints(g.get(), "element", viz->cell_element(), ctx);
+    io::write_ints(g.get(), "member", viz->cell_polyline(), ctx);  // the member within the element
+    io::write_ints(g.get(), "lines", viz->lines(), ctx, 2);  // the cells' segments, for tools drawing lines
+    io::write_ints(g.get(), "line_cell", viz->line_cell(), ctx);
     // Vertex lists (0, 1, ..., n-1) of the joints' and the constraints' point grids.
     std::vector<int> ids(static_cast<std::size_t>(std::max(nj, nc)));
     for (std::size_t i = 0; i < ids.size(); ++i) ids[i] = static_cast<int>(i);
@@ -519,8 +535,8 @@ void ResultWriter::Impl::create_viz() {
   add(g.get(), "points", {np, 3}, "m",
       [this](const ModelState&, double* out) { std::copy(points.begin(), points.end(), out); }, true);
   add(g.get(), "axial_force", {nl}, "N", [this](const ModelState&, double* out) {
-    const auto& element = viz->line_element();
-    const auto& polyline = viz->line_polyline();
+    const auto& element = viz->cell_element();
+    const auto& polyline = viz->cell_polyline();
     for (std::size_t l = 0; l < element.size(); ++l) {
       const int e = element[l];
       if (e < 0)
@@ -531,10 +547,10 @@ void ResultWriter::Impl::create_viz() {
         out[l] = axial[e];
     }
   });
-  // The members' section forces and stresses, per line like the axial force.
+  // The members' section forces and stresses, per cell like the axial force.
   add(g.get(), "section_forces", {nl, 12}, "N (N, Qy, Qz), N*m (T, My, Mz); end 1, then end 2; element frame",
       [this](const ModelState&, double* out) {
-        for (const MemberStress* m : line_members) {
+        for (const MemberStress* m : cell_members) {
           for (int k = 0; k < 2; ++k) {
             const SectionForces f = m ? m->end[static_cast<std::size_t>(k)] : SectionForces{};
             const double v[6] = {f.N, f.Qy, f.Qz, f.T, f.My, f.Mz};
@@ -543,19 +559,19 @@ void ResultWriter::Impl::create_viz() {
           out += 12;
         }
       });
-  add(g.get(), "von_mises", {nl}, "Pa", per_line([](const MemberStress& m) { return m.von_mises; }));
+  add(g.get(), "von_mises", {nl}, "Pa", per_cell([](const MemberStress& m) { return m.von_mises; }));
   add(g.get(), "utilization", {nl}, "1 (von Mises / yield stress)",
-      per_line([](const MemberStress& m) { return m.utilization; }));
+      per_cell([](const MemberStress& m) { return m.utilization; }));
   // Magnitudes by sqrt(a^2 + b^2), not std::hypot: resultants cannot overflow, and hypot's care
   // was a tenth of the output's evaluation (four per member and step).
-  add(g.get(), "bending_moment", {nl}, "N*m", per_line([](const MemberStress& m) {
+  add(g.get(), "bending_moment", {nl}, "N*m", per_cell([](const MemberStress& m) {
         return std::sqrt(std::max(square(m.end[0].My) + square(m.end[0].Mz), square(m.end[1].My) + square(m.end[1].Mz)));
       }));
-  add(g.get(), "shear_force", {nl}, "N", per_line([](const MemberStress& m) {
+  add(g.get(), "shear_force", {nl}, "N", per_cell([](const MemberStress& m) {
         return std::sqrt(std::max(square(m.end[0].Qy) + square(m.end[0].Qz), square(m.end[1].Qy) + square(m.end[1].Qz)));
       }));
   add(g.get(), "torque", {nl}, "N*m",
-      per_line([](const MemberStress& m) { return std::max(std::abs(m.end[0].T), std::abs(m.end[1].T)); }));
+      per_cell([](const MemberStress& m) { return std::max(std::abs(m.end[0].T), std::abs(m.end[1].T)); }));
   // The joints' frames for glyphs: drawing data, in single precision like the points.
   for (int axis = 0; axis < 3; ++axis)
     add(g.get(), std::string("joint_axis_") + "xyz"[axis], {static_cast<hsize_t>(nj), 3}, "1",
@@ -565,17 +581,21 @@ void ResultWriter::Impl::create_viz() {
         },
         true);
   io::XdmfLayout layout{h5.filename().string(), model.title.empty() ? opts.base_name : model.title,
-                        viz->num_points(), viz->num_lines(), nj, nc, constraint_names(), {}};
+                        viz->num_points(), viz->num_cells(), static_cast<int>(viz->cells().size()),
+                        nj, nc, constraint_names(), {}};
   if (opts.body_blocks)
     for (const io::VizGeometry::BodyRange& r : viz->body_ranges())
-      layout.bodies.push_back(io::XdmfBody{model.bodies[r.body].name, r.first_line, r.lines, r.first_point, r.points});
-  // Each body block's cells, numbered from the body's first point (results of format 2, continued,
-  // get them now).
-  if (layout.names_bodies() && (!continuing || H5Lexists(g.get(), "body_lines", H5P_DEFAULT) <= 0)) {
-    std::vector<int> local = viz->lines();
+      layout.bodies.push_back(io::XdmfBody{model.bodies[r.body].name, r.first_cell, r.cells, r.first_point, r.points,
+                                           r.first_entry, r.entries});
+  // Each body block's cells, numbered from the body's first point (a run continued without body
+  // blocks before gets them now).
+  if (layout.names_bodies() && (!continuing || H5Lexists(g.get(), "body_cells", H5P_DEFAULT) <= 0)) {
+    std::vector<int> local = viz->cells();
+    const std::vector<int>& offsets = viz->cell_offsets();
     for (const io::XdmfBody& b : layout.bodies)
-      for (int i = 2 * b.first_line; i < 2 * (b.first_line + b.lines); ++i) local[i] -= b.first_point;
-    io::write_ints(g.get(), "body_lines", local, ctx, 2);
+      for (int c = b.first_cell; c < b.first_cell + b.cells; ++c)
+        for (int i = offsets[c] + 2; i < offsets[c + 1]; ++i) local[i] -= b.first_point;
+    io::write_ints(g.get(), "body_cells", local, ctx);
   }
   document.emplace(std::move(layout));
   for (double t : kept_times) document->add_step(t);
@@ -608,8 +628,8 @@ void ResultWriter::Impl::compute_step(const ModelState& state) {
     flow_values[f] = element_flows[c.index];
   }
   viz->points(state, element_out, points);
-  line_members.resize(viz->line_element().size());
-  for (std::size_t l = 0; l < line_members.size(); ++l) line_members[l] = line_member(l);
+  cell_members.resize(viz->cell_element().size());
+  for (std::size_t c = 0; c < cell_members.size(); ++c) cell_members[c] = cell_member(c);
   joint_axes.resize(9 * model.joints.size());
   for (std::size_t j = 0; j < model.joints.size(); ++j) {
     const Mat3 R = state.joint_frame_of(static_cast<int>(j)).second;

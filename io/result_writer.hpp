@@ -65,7 +65,7 @@ std::string describe_member_peak(const Model& model, const MemberPeak& peak);
 /// Writes one output time per append(). The layout, in full, is in docs/output-format.md; in short
 /// (T = steps written, every real in IEEE double, SI units):
 ///
-///   /                        attributes title, generator = "latticedyn", format_version = 3
+///   /                        attributes title, generator = "latticedyn", format_version = 4
 ///   /model/...               static description: block indices, labels, names, types, counts
 ///   /time                    T
 ///   /blocks/position         T x nTrans x 3   inertial, of every translation block (fixed too)
@@ -83,15 +83,16 @@ std::string describe_member_peak(const Model& model, const MemberPeak& peak);
 ///   /energy                  T x 3            kinetic, gravity potential, strain
 ///   /energy_total            T
 ///   /drives/value            T x nDrives      each drive's value (rest lengths, angles)
-///   /viz/points T x nPoints x 3;  /viz/axial_force T x nLines
-///   /viz/section_forces T x nLines x 12 (N, Qy, Qz, T, My, Mz at end 1, then end 2 of the line's
+///   /viz/points T x nPoints x 3;  /viz/axial_force T x nCells (a cell: one drawn polyline)
+///   /viz/section_forces T x nCells x 12 (N, Qy, Qz, T, My, Mz at end 1, then end 2 of the cell's
 ///   member, element frame), /viz/von_mises, /viz/utilization, /viz/bending_moment,
-///   /viz/shear_force, /viz/torque T x nLines (the member's largest; NaN for no member)
+///   /viz/shear_force, /viz/torque T x nCells (the member's largest; NaN for no member)
 ///   /viz/joint_axis_x, _y, _z T x nJoints x 3 (the joints' frames, for glyphs)
-///   /viz/lines nLines x 2, /viz/body nLines, /viz/element nLines, /viz/member nLines (the
-///   member or polyline within the element), /viz/joint_vertices,
-///   /viz/constraint_vertices, /viz/body_lines (each body's lines numbered from its first point,
-///   for the XDMF's body blocks) (static)
+///   /viz/cells (XDMF mixed topology: 2, n, n points per cell), /viz/cell_offsets nCells + 1,
+///   /viz/body nCells, /viz/element nCells, /viz/member nCells (the member or polyline within the
+///   element), /viz/lines nLines x 2 and /viz/line_cell nLines (the cells' segments),
+///   /viz/joint_vertices, /viz/constraint_vertices, /viz/body_cells (each body's cells numbered
+///   from its first point, for the XDMF's body blocks) (static)
 ///
 /// A time series whose row would be empty (no constraints, no rotation blocks, ...) is not
 /// created. Time series are chunked along time and extended by one entry per append; the file is

@@ -1,5 +1,5 @@
-// Line-cell geometry of the model for the XDMF output; the point list is fixed at the first output
-// because XDMF shares one topology (/viz/lines) between all time steps.
+// Polyline-cell geometry of the model for the XDMF output; the point list is fixed at the first
+// output because XDMF shares one topology (/viz/cells) between all time steps.
 #include "io/viz_geometry.hpp"
 
 #include <algorithm>
@@ -16,12 +16,20 @@ void VizGeometry::check_draw_sequences(const Model& model) {
                                     " but has " + std::to_string(body.joints.size()) + " joints");
 }
 
-void VizGeometry::add_line(int a, int b, int body, int element, int polyline) {
-  lines_.push_back(a);
-  lines_.push_back(b);
-  line_body_.push_back(body);
-  line_element_.push_back(element);
-  line_polyline_.push_back(polyline);
+void VizGeometry::add_cell(const std::vector<int>& points, int body, int element, int polyline) {
+  const int cell = num_cells();
+  cells_.push_back(kPolylineCode);
+  cells_.push_back(static_cast<int>(points.size()));
+  cells_.insert(cells_.end(), points.begin(), points.end());
+  cell_offsets_.push_back(static_cast<int>(cells_.size()));
+  cell_body_.push_back(body);
+  cell_element_.push_back(element);
+  cell_polyline_.push_back(polyline);
+  for (std::size_t i = 0; i + 1 < points.size(); ++i) {
+    lines_.push_back(points[i]);
+    lines_.push_back(points[i + 1]);
+    line_cell_.push_back(cell);
+  }
 }
 
 void VizGeometry::add_rigid_body(const Model& model, int b) {
@@ -39,18 +47,18 @@ void VizGeometry::add_rigid_body(const Model& model, int b) {
     for (std::size_t i = 0; i + 1 < seq.size(); ++i) {
       if (seq[i] == seq[i + 1]) continue;
       const int from = joint_point(seq[i]);  // numbered in drawing order, not argument order
-      add_line(from, joint_point(seq[i + 1]), b, -1);
+      add_cell({from, joint_point(seq[i + 1])}, b, -1);
     }
   } else if (body.joints.size() >= 2) {
     const int hub = joint_point(0);
-    for (std::size_t k = 1; k < body.joints.size(); ++k) add_line(hub, joint_point(static_cast<int>(k)), b, -1);
+    for (std::size_t k = 1; k < body.joints.size(); ++k) add_cell({hub, joint_point(static_cast<int>(k))}, b, -1);
   } else if (body.joints.size() == 1) {
     // Origin and joint coincide at all times exactly when the constant body-frame offset is zero.
     const Joint& j = model.joints[body.joints[0]];
     if (j.rotation_block >= 0 && j.offset.norm() > 0) {
       const int origin = num_points();
       frame_points_.push_back({false, j.translation_block});
-      add_line(origin, joint_point(0), b, -1);
+      add_cell({origin, joint_point(0)}, b, -1);
     }
   }
 }
@@ -62,14 +70,16 @@ VizGeometry VizGeometry::plan(const ModelState& state) {
   for (std::size_t e = 0; e < model.elements.size(); ++e) {
     const auto polylines =
         model.elements[e].element->axis_polylines(state.element_slots(static_cast<int>(e)), state.context());
-    std::vector<int> counts;
+    std::vector<int> counts, points;
     g.element_first_.push_back(next);
     for (const auto& line : polylines) {
       const int n = line.size() >= 2 ? static_cast<int>(line.size()) : 0;  // a single point draws no line
       counts.push_back(n);
-      for (int i = 0; i + 1 < n; ++i)
-        g.add_line(next + i, next + i + 1, model.elements[e].body, static_cast<int>(e),
-                   static_cast<int>(counts.size()) - 1);
+      if (n > 0) {
+        points.resize(static_cast<std::size_t>(n));
+        for (int i = 0; i < n; ++i) points[static_cast<std::size_t>(i)] = next + i;
+        g.add_cell(points, model.elements[e].body, static_cast<int>(e), static_cast<int>(counts.size()) - 1);
+      }
       next += n;
     }
     g.axis_count_.push_back(std::move(counts));
@@ -83,19 +93,23 @@ VizGeometry VizGeometry::plan(const ModelState& state) {
 std::vector<VizGeometry::BodyRange> VizGeometry::body_ranges() const {
   std::vector<BodyRange> ranges;
   std::vector<char> seen;
-  for (int l = 0; l < num_lines(); ++l) {
-    const int b = line_body_[l], a = lines_[2 * l], c = lines_[2 * l + 1];
+  for (int c = 0; c < num_cells(); ++c) {
+    const int b = cell_body_[c];
+    const int* p = cells_.data() + cell_offsets_[c] + 2;
+    const int n = cells_[static_cast<std::size_t>(cell_offsets_[c]) + 1];
+    const auto [lo, hi] = std::minmax_element(p, p + n);
     if (ranges.empty() || ranges.back().body != b) {
       if (b < 0) return {};
       if (static_cast<int>(seen.size()) <= b) seen.resize(b + 1, 0);
-      if (seen[b]) return {};  // the body's lines come in two runs
+      if (seen[b]) return {};  // the body's cells come in two runs
       seen[b] = 1;
-      ranges.push_back(BodyRange{b, l, 0, std::min(a, c), 0});
+      ranges.push_back(BodyRange{b, c, 0, *lo, 0, cell_offsets_[c], 0});
     }
     BodyRange& r = ranges.back();
-    ++r.lines;
-    const int last = std::max({r.first_point + r.points - 1, a, c});
-    r.first_point = std::min({r.first_point, a, c});
+    ++r.cells;
+    r.entries = cell_offsets_[c + 1] - r.first_entry;
+    const int last = std::max(r.first_point + r.points - 1, *hi);
+    r.first_point = std::min(r.first_point, *lo);
     r.points = last - r.first_point + 1;
   }
   return ranges;

@@ -150,22 +150,27 @@ void XdmfDocument::format_step(const std::string& step, const std::string& time_
     put("          </Geometry>\n");
   };
 
-  const std::string lines = std::to_string(layout_.lines), points = std::to_string(layout_.points);
+  const std::string points = std::to_string(layout_.points), all_cells = std::to_string(layout_.cells);
   // The members' grid of `part`: the whole model reads the datasets whole; a body's block reads
-  // its rows of them, its cells numbered from its first point (/viz/body_lines).
+  // its rows of them, its cells numbered from its first point (/viz/body_cells).
   auto member_grid = [&](Block& b, const XdmfBody& part, bool whole) {
-    const std::string n = std::to_string(part.points), cells = std::to_string(part.lines);
-    const std::string first_point = std::to_string(part.first_point), first_line = std::to_string(part.first_line);
-    const std::string point_rows = whole ? "" : points, line_rows = whole ? "" : lines;
-    auto rows = [&](const char* dataset, bool pairs) {  // a static integer dataset, per line
+    const std::string n = std::to_string(part.points), cells = std::to_string(part.cells);
+    const std::string first_point = std::to_string(part.first_point), first_cell = std::to_string(part.first_cell);
+    const std::string point_rows = whole ? "" : points, cell_rows = whole ? "" : all_cells;
+    auto rows = [&](const char* dataset) {  // a static integer dataset, per cell
       if (whole)
-        static_ints(cells + (pairs ? " 2" : ""), dataset);
+        static_ints(cells, dataset);
       else
-        static_rows(dataset, part.first_line, part.lines, layout_.lines, pairs);
+        static_rows(dataset, part.first_cell, part.cells, layout_.cells, false);
     };
     begin_grid(b);
-    put("          <Topology TopologyType=\"Polyline\" NodesPerElement=\"2\" NumberOfElements=\"" + cells + "\">\n");
-    rows(whole ? "/viz/lines" : "/viz/body_lines", true);
+    // Cells of any number of points: XDMF's mixed topology (per cell its type, 2 for a polyline,
+    // its point count and its points).
+    put("          <Topology TopologyType=\"Mixed\" NumberOfElements=\"" + cells + "\">\n");
+    if (whole)
+      static_ints(std::to_string(layout_.cell_entries), "/viz/cells");
+    else
+      static_rows("/viz/body_cells", part.first_entry, part.entries, layout_.cell_entries, false);
     put("          </Topology>\n          <Geometry GeometryType=\"XYZ\">\n");
     slab("/viz/points", n, true, step, "4", first_point, point_rows);
     put("          </Geometry>\n");
@@ -177,24 +182,25 @@ void XdmfDocument::format_step(const std::string& step, const std::string& time_
       slab("/viz/points", n, true, "0", "4", first_point, point_rows);
       put("            </DataItem>\n");
     });
-    attribute("axial_force [N]", false, true, [&] { slab("/viz/axial_force", cells, false, step, "8", first_line, line_rows); });
+    attribute("axial_force [N]", false, true, [&] { slab("/viz/axial_force", cells, false, step, "8", first_cell, cell_rows); });
     // The members' stresses and largest resultants: colour by utilization to see the worst.
     for (const auto& member_array : {std::pair{"utilization", "/viz/utilization"}, std::pair{"von_mises [Pa]", "/viz/von_mises"},
                                      std::pair{"bending_moment [N m]", "/viz/bending_moment"},
                                      std::pair{"shear_force [N]", "/viz/shear_force"}, std::pair{"torque [N m]", "/viz/torque"}}) {
       // Not a structured binding: lambdas may not capture those before Clang 16.
       const char* dataset = member_array.second;
-      attribute(member_array.first, false, true, [&] { slab(dataset, cells, false, step, "8", first_line, line_rows); });
+      attribute(member_array.first, false, true, [&] { slab(dataset, cells, false, step, "8", first_cell, cell_rows); });
     }
     // Every resultant of both ends, signed, as one 12-component array (N, Qy, Qz, T, My, Mz at end
     // 1, then end 2): ParaView colours by any component.
     attribute("section_forces [N, N m]", false, true,
-              [&] { slab_columns("/viz/section_forces", cells, 12, step, "8", first_line, line_rows); }, "Matrix");
-    attribute("body", false, true, [&] { rows("/viz/body", false); });
-    attribute("element", false, true, [&] { rows("/viz/element", false); });
+              [&] { slab_columns("/viz/section_forces", cells, 12, step, "8", first_cell, cell_rows); }, "Matrix");
+    attribute("body", false, true, [&] { rows("/viz/body"); });
+    attribute("element", false, true, [&] { rows("/viz/element"); });
     put("        </Grid>\n");
   };
-  if (named_bodies_.empty()) member_grid(members_, XdmfBody{"", 0, layout_.lines, 0, layout_.points}, true);
+  if (named_bodies_.empty())
+    member_grid(members_, XdmfBody{"", 0, layout_.cells, 0, layout_.points, 0, layout_.cell_entries}, true);
   for (std::size_t b = 0; b < named_bodies_.size(); ++b) member_grid(named_bodies_[b], layout_.bodies[b], false);
 
   if (layout_.joints > 0) {

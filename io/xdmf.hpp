@@ -1,4 +1,4 @@
-// The XDMF description ParaView reads next to the results .h5: a temporal collection of line-cell
+// The XDMF description ParaView reads next to the results .h5: a temporal collection of polyline-cell
 // grids whose heavy data are hyperslabs of the /viz datasets, and the atomic file replacement.
 #pragma once
 
@@ -11,11 +11,12 @@
 
 namespace latticedyn::io {
 
-/// A body drawn as a block of its own: its lines and the points they run through (rows of
-/// /viz/lines and /viz/points; /viz/body_lines holds its lines numbered from its first point).
+/// A body drawn as a block of its own: its cells and the points they run through (rows of the
+/// per-cell datasets and of /viz/points), and its entries of /viz/body_cells (its cells in the
+/// mixed-topology layout of /viz/cells, numbered from its first point).
 struct XdmfBody {
   std::string name;
-  int first_line = 0, lines = 0, first_point = 0, points = 0;
+  int first_cell = 0, cells = 0, first_point = 0, points = 0, first_entry = 0, entries = 0;
 };
 
 /// What the XDMF refers to. The .h5 is addressed by file name only, so the folder can be moved.
@@ -23,7 +24,8 @@ struct XdmfLayout {
   std::string h5_name;  ///< e.g. "results.h5"
   std::string title;    ///< name of the temporal collection
   int points = 0;       ///< rows of /viz/points per step
-  int lines = 0;        ///< rows of /viz/lines
+  int cells = 0;        ///< polyline cells: rows of the per-cell datasets (/viz/body, /viz/von_mises, ...)
+  int cell_entries = 0; ///< entries of /viz/cells (per cell its type, point count and points)
   int joints = 0;       ///< rows of /joints/position per step (0: no "joints" block)
   int constraints = 0;  ///< rows of /constraints/position per step (0: no "constraints" block)
   /// The constraints' names: with at most kMaxNamedConstraints of them, "constraints" holds one
@@ -32,7 +34,7 @@ struct XdmfLayout {
   /// The drawn bodies: with 1 to kMaxNamedBodies of them, "members" holds one block per body,
   /// named after it, whose cells and points are the body's rows of the /viz datasets.
   std::vector<XdmfBody> bodies;
-  /// Whether "members" is split into named body blocks (then the writer provides /viz/body_lines).
+  /// Whether "members" is split into named body blocks (then the writer provides /viz/body_cells).
   bool names_bodies() const;
 };
 
@@ -44,8 +46,9 @@ inline constexpr int kMaxNamedBodies = 64;
 
 /// XDMF 2 document for ParaView's "XDMF Reader" (the Xdmf3 readers misread multi-dimensional
 /// hyperslabs, see docs/output-format.md): a spatial collection (a multiblock dataset in ParaView)
-/// of three temporal collections, the blocks "members" (line cells through /viz/points with axial
-/// force, body and element; for up to kMaxNamedBodies bodies whose lines are consecutive a
+/// of three temporal collections, the blocks "members" (polyline cells through /viz/points, a
+/// mixed topology, with axial force, stresses, body and element; for up to kMaxNamedBodies bodies
+/// whose cells are consecutive a
 /// collection of one block per body, named after it), "joints" (a vertex per joint: velocity, frame axes, body) and
 /// "constraints" (a vertex per constraint at its second joint: reaction force and moment; for up
 /// to kMaxNamedConstraints constraints a collection of one block per constraint, named after

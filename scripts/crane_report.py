@@ -61,9 +61,11 @@ class Run:
         v = f.get("viz")
         self.utilization = v["utilization"][()] if v is not None and "utilization" in v else None
         self.von_mises = v["von_mises"][()] if v is not None and "von_mises" in v else None
-        self.line_body = v["body"][()] if v is not None and "body" in v else None
-        self.line_element = v["element"][()] if v is not None and "element" in v else None
-        self.line_member = v["member"][()] if v is not None and "member" in v else None
+        # Per drawn cell (results format 4: a member is one cell; format 3 drew it as several
+        # lines, each with the member's values, which this reads the same way).
+        self.cell_body = v["body"][()] if v is not None and "body" in v else None
+        self.cell_element = v["element"][()] if v is not None and "element" in v else None
+        self.cell_member = v["member"][()] if v is not None and "member" in v else None
 
     def joint(self, name):
         if name not in self.joint_names:
@@ -224,23 +226,23 @@ def member_peaks(run):
     first_element = {}
     for e, b in enumerate(run.element_body):
         first_element.setdefault(int(b), e)
-    for b in sorted(set(int(x) for x in run.line_body if x >= 0)):
-        cols = np.flatnonzero(run.line_body == b)
+    for b in sorted(set(int(x) for x in run.cell_body if x >= 0)):
+        cols = np.flatnonzero(run.cell_body == b)
         u = run.utilization[:, cols]
         if not np.isfinite(u).any():
             continue
         k, c = np.unravel_index(np.nanargmax(u), u.shape)
-        line = cols[c]
-        element = int(run.line_element[line]) - first_element[b] + 1
+        cell = cols[c]
+        element = int(run.cell_element[cell]) - first_element[b] + 1
         # A lattice body has one element per member, in the truss section's member order, and a
         # super truss's members come in that order too: "member k" names the same member in both.
         if run.body_types[b] == "super_truss":
-            where = f"member {int(run.line_member[line]) + 1}"
+            where = f"member {int(run.cell_member[cell]) + 1}"
         elif run.body_types[b] == "lattice":
             where = f"member {element}"
         else:
             where = f"element {element}"
-        peaks[run.bodies[b]] = (float(u[k, c]), float(run.von_mises[k, line]), float(run.time[k]), where)
+        peaks[run.bodies[b]] = (float(u[k, c]), float(run.von_mises[k, cell]), float(run.time[k]), where)
     return peaks
 
 

@@ -17,7 +17,7 @@ The geometry comes from latticedyn itself, not from a copy of the generator: for
 a model with one `lattice` body (one Timoshenko element per member, no gravity, clamped at
 its joint 1 by a fixed constraint to ground, like verification/cases/lattice_axial.yaml), runs
 `latticedyn static MODEL --output DIR` and reads every member's end points from DIR/<name>.h5
-(/viz/points, /viz/lines, /viz/element; docs/output-format.md). Members are then classified by
+(/viz/points, /viz/cells, /viz/element; docs/output-format.md). Members are then classified by
 geometry alone: main beams (chord segments between consecutive stations of one main beam),
 cross-section beams (both ends in an end-section plane) and sub-beams (the rest: diagonals and
 the transverse members of apex bays).
@@ -93,17 +93,21 @@ def run_latticedyn(latticedyn, name, section, workdir):
         sys.exit(f"latticedyn failed on {model}:\n{proc.stdout}{proc.stderr}")
     with h5py.File(out / f"{name}.h5", "r") as f:
         points = f["/viz/points"][0]
-        lines = f["/viz/lines"][()]
+        cells = f["/viz/cells"][()]
+        offsets = f["/viz/cell_offsets"][()]
         element = f["/viz/element"][()]
         types = [t.decode() if isinstance(t, bytes) else t for t in f["/model/element_types"][()]]
     members = []
     for e in range(len(types)):
-        # An element draws a polyline through its axis points: its ends are the points of degree 1.
-        idx, count = np.unique(lines[element == e].ravel(), return_counts=True)
-        ends = idx[count == 1]
-        if len(ends) != 2:
+        # An element draws one polyline cell through its axis points (per cell: type, count,
+        # points): its ends are the cell's first and last point.
+        mine = np.flatnonzero(element == e)
+        if len(mine) != 1:
+            sys.exit(f"{name}: element {e} is not drawn as one polyline")
+        cell = cells[offsets[mine[0]] + 2:offsets[mine[0] + 1]]
+        if len(cell) < 2 or cell[0] == cell[-1]:
             sys.exit(f"{name}: element {e} does not draw an open polyline")
-        members.append(points[ends])
+        members.append(points[[cell[0], cell[-1]]])
     return np.array(members)
 
 

@@ -1,7 +1,8 @@
 // Checkpoints and exact restart (issue 13): a run continued from a checkpoint repeats the rest of
 // the uninterrupted run bit for bit (generalized-alpha with Jacobian reuse, on 1 and 2 ranks, and
 // the Baumgarte route), an interrupted run leaves a checkpoint that continues, and every
-// checkpoint that cannot continue the model is an input error that says why.
+// checkpoint that cannot continue the model (or results file of another format) is an input error
+// that says why.
 #include "command_runner.hpp"
 
 #include <gtest/gtest.h>
@@ -152,6 +153,24 @@ TEST_F(Restart, CheckpointsThatCannotContinueTheModelAreInputErrors) {
     EXPECT_EQ(o.code, 2) << c.args << "\n" << o.out << o.err;
     EXPECT_NE(o.err.find(c.message), std::string::npos) << c.args << "\n" << o.err;
   }
+  // A results file of an earlier format (3: the members' values per drawn segment) cannot be
+  // extended by this one; it is left as it was.
+  write("old.yaml", "base: dpb_part.yaml\noutput: {directory: out, name: old, interval: 0, checkpoint_interval: 0.25}\n");
+  fs::copy_file(dir_ / "out/dpb_part.h5", dir_ / "out/old.h5");
+  {
+    const hid_t f = H5Fopen((dir_ / "out/old.h5").c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    ASSERT_GE(f, 0);
+    const hid_t a = H5Aopen(f, "format_version", H5P_DEFAULT);
+    const int three = 3;
+    ASSERT_GE(H5Awrite(a, H5T_NATIVE_INT, &three), 0);
+    H5Aclose(a);
+    H5Fclose(f);
+  }
+  const std::size_t steps = dataset(dir_ / "out/old.h5", "/time").size();
+  const Outcome old = run("run old.yaml --restart out/old.h5");
+  EXPECT_EQ(old.code, 2) << old.out << old.err;
+  EXPECT_NE(old.err.find("it is of results format 3, this latticedyn writes format 4"), std::string::npos) << old.err;
+  EXPECT_EQ(dataset(dir_ / "out/old.h5", "/time").size(), steps);
 }
 
 // start_state is a pose, not a restart, and says so.

@@ -268,7 +268,7 @@ void expect_xdmf_matches(const fs::path& xdmf, hid_t h5, const std::vector<doubl
        {"displacement [m]", "axial_force [N]", "utilization", "von_mises [Pa]", "bending_moment [N m]",
         "shear_force [N]", "torque [N m]", "section_forces [N, N m]", "body", "element"}},
       {"joints", {"velocity [m/s]", "axis_x", "axis_y", "axis_z", "body"}}};
-  // HDF references per grid: lines, points, displacement (points now and at step 0), axial
+  // HDF references per grid: cells, points, displacement (points now and at step 0), axial
   // force, the five member stress arrays, the section forces, body, element; joints: vertices,
   // positions, then one
   // per attribute; a constraint: its position, force and moment (its vertex and index are inline
@@ -360,7 +360,7 @@ TEST(ResultWriter, RoundTripOfThreeSteps) {
   ASSERT_GE(f.id, 0);
   EXPECT_EQ(string_attribute(f.id, "generator"), "latticedyn");
   EXPECT_EQ(string_attribute(f.id, "title"), model.title);
-  EXPECT_EQ(int_attribute(f.id, "format_version"), 3);
+  EXPECT_EQ(int_attribute(f.id, "format_version"), 4);
 
   const std::vector<double> times{0.0, 0.1, 0.2};
   EXPECT_EQ(read<double>(f.id, "/time").v, times);
@@ -469,45 +469,70 @@ TEST(ResultWriter, RoundTripOfThreeSteps) {
     EXPECT_DOUBLE_EQ(energy_total.v[k], E.kinetic + E.gravity_potential + E.strain);
   }
 
-  // Drawing: 2 strut ties (2 axis points, 1 line each), 4 rigid bodies with 2 joints (a star of
-  // 1 line each), 3 beam and rope elements (5 axis points, a polyline of 4 lines each); rigid body
-  // elements have no axis points.
+  // Drawing: 2 strut ties (2 axis points, a cell of 1 line each), 4 rigid bodies with 2 joints (a
+  // star of one 2-point cell each), 3 beam and rope elements (5 axis points, a polyline cell of 4
+  // lines each); rigid body elements have no axis points. A cell carries its values once.
   const auto points = read<double>(f.id, "/viz/points");
   EXPECT_FALSE(exists(f.id, "/viz/displacement")) << "the XDMF computes the displacement from the points";
+  const auto cells = read<int>(f.id, "/viz/cells");
+  const auto offsets = read<int>(f.id, "/viz/cell_offsets");
   const auto lines = read<int>(f.id, "/viz/lines");
+  const auto line_cell = read<int>(f.id, "/viz/line_cell");
   const auto body = read<int>(f.id, "/viz/body");
   const auto element = read<int>(f.id, "/viz/element");
   const auto viz_axial = read<double>(f.id, "/viz/axial_force");
-  const hsize_t np = 2 * 2 + 4 * 2 + 3 * 5, nl = 2 + 4 + 3 * 4;
+  const hsize_t np = 2 * 2 + 4 * 2 + 3 * 5, nc = 2 + 4 + 3, nl = 2 + 4 + 3 * 4;
   EXPECT_EQ(points.dims, (std::vector<hsize_t>{3, np, 3}));
+  EXPECT_EQ(cells.dims, (std::vector<hsize_t>{(2 + 4) * (2 + 2) + 3 * (2 + 5)}));
+  EXPECT_EQ(offsets.dims, (std::vector<hsize_t>{nc + 1}));
   EXPECT_EQ(lines.dims, (std::vector<hsize_t>{nl, 2}));
-  EXPECT_EQ(body.dims, (std::vector<hsize_t>{nl}));
-  EXPECT_EQ(viz_axial.dims, (std::vector<hsize_t>{3, nl}));
+  EXPECT_EQ(line_cell.dims, (std::vector<hsize_t>{nl}));
+  EXPECT_EQ(body.dims, (std::vector<hsize_t>{nc}));
+  EXPECT_EQ(element.dims, (std::vector<hsize_t>{nc}));
+  EXPECT_EQ(viz_axial.dims, (std::vector<hsize_t>{3, nc}));
+  // Every cell a polyline (XDMF's mixed topology: code 2, point count, points) whose segments are
+  // its lines, in order.
+  ASSERT_EQ(offsets.v.front(), 0);
+  ASSERT_EQ(offsets.v.back(), static_cast<int>(cells.v.size()));
+  std::size_t line = 0;
+  for (hsize_t c = 0; c < nc; ++c) {
+    const int at = offsets.v[c], n = cells.v[static_cast<std::size_t>(at) + 1];
+    EXPECT_EQ(cells.v[static_cast<std::size_t>(at)], 2);
+    ASSERT_EQ(offsets.v[c + 1] - at, n + 2);
+    for (int i = 0; i + 1 < n; ++i, ++line) {
+      ASSERT_LT(line, nl);
+      EXPECT_EQ(line_cell.v[line], static_cast<int>(c));
+      EXPECT_EQ(lines.v[2 * line], cells.v[static_cast<std::size_t>(at + 2 + i)]);
+      EXPECT_EQ(lines.v[2 * line + 1], cells.v[static_cast<std::size_t>(at + 3 + i)]);
+    }
+  }
+  EXPECT_EQ(line, nl);
   for (hsize_t k = 0; k < 3; ++k) {
     const ModelState& s = run.states[k];
     auto point = [&](int p) {
       return Vec3(points.at({k, hsize_t(p), 0}), points.at({k, hsize_t(p), 1}), points.at({k, hsize_t(p), 2}));
     };
-    std::map<int, int> segment;  // element -> lines of it seen so far
-    for (hsize_t l = 0; l < nl; ++l) {
-      const int a = lines.at({l, 0}), b = lines.at({l, 1}), e = element.v[l];
-      ASSERT_TRUE(a >= 0 && a < static_cast<int>(np) && b >= 0 && b < static_cast<int>(np));
+    for (hsize_t c = 0; c < nc; ++c) {
+      const int e = element.v[c], n = cells.v[static_cast<std::size_t>(offsets.v[c]) + 1];
       std::vector<Vec3> expected;
-      int first = 0;
       if (e >= 0) {
         expected = model.elements[e].element->axis_points(s.element_slots(e), s.context());
-        first = segment[e]++;
-        EXPECT_EQ(body.v[l], model.elements[e].body);
-        EXPECT_EQ(viz_axial.at({k, l}), *s.axial_force(e));
+        EXPECT_EQ(body.v[c], model.elements[e].body);
+        EXPECT_EQ(viz_axial.at({k, c}), *s.axial_force(e));
       } else {
-        const Body& bd = model.bodies[body.v[l]];
+        const Body& bd = model.bodies[body.v[c]];
         EXPECT_EQ(bd.type, "rigid_body");
         expected = {s.joint_position(bd.joints[0]), s.joint_position(bd.joints[1])};
-        EXPECT_EQ(viz_axial.at({k, l}), 0.0);
+        EXPECT_EQ(viz_axial.at({k, c}), 0.0);
       }
-      // Drawing coordinates are stored in single precision.
-      EXPECT_LT((point(a) - expected.at(first)).norm(), 1e-6 * (1 + expected.at(first).norm()));
-      EXPECT_LT((point(b) - expected.at(first + 1)).norm(), 1e-6 * (1 + expected.at(first + 1).norm()));
+      ASSERT_EQ(n, static_cast<int>(expected.size()));
+      for (int i = 0; i < n; ++i) {
+        const int p = cells.v[static_cast<std::size_t>(offsets.v[c] + 2 + i)];
+        ASSERT_TRUE(p >= 0 && p < static_cast<int>(np));
+        // Drawing coordinates are stored in single precision.
+        EXPECT_LT((point(p) - expected[static_cast<std::size_t>(i)]).norm(),
+                  1e-6 * (1 + expected[static_cast<std::size_t>(i)].norm()));
+      }
     }
   }
 
@@ -619,6 +644,8 @@ TEST(ResultWriter, ModelWithoutConstraintsAndDrawSequences) {
   const auto lines = read<int>(f.id, "/viz/lines");
   EXPECT_EQ(points.dims, (std::vector<hsize_t>{2, 5, 3}));
   EXPECT_EQ(lines.v, (std::vector<int>{0, 1, 1, 2, 2, 0, 3, 4}));
+  // A rigid body draws 2-point cells, one per line.
+  EXPECT_EQ(read<int>(f.id, "/viz/cells").v, (std::vector<int>{2, 2, 0, 1, 2, 2, 1, 2, 2, 2, 2, 0, 2, 2, 3, 4}));
   EXPECT_EQ(read<int>(f.id, "/viz/body").v, (std::vector<int>{boom.body, boom.body, boom.body, hook.body}));
   const ModelState& s = run.states[1];
   const int eye = run.model.find_joint("hook.eye");
@@ -644,7 +671,7 @@ TEST(ResultWriter, ModelWithoutConstraintsAndDrawSequences) {
 
 TEST(ResultWriter, SuperTrussIsDrawnMemberByMemberWithItsMemberForces) {
   // A 3-bay triangular section as one super truss; the recorded states stretch and bend it, so
-  // members carry different forces, and each drawn member line must carry its own.
+  // members carry different forces, and each drawn member cell must carry its own.
   const char* text = R"(materials:
   steel: {density: 7800, youngs_modulus: 2.06e11, poisson_ratio: 0.25}
 sections:
@@ -674,7 +701,8 @@ bodies:
   writer.close();
 
   H5File f(writer.h5_path());
-  const auto lines = read<int>(f.id, "/viz/lines");
+  const auto cells = read<int>(f.id, "/viz/cells");
+  const auto offsets = read<int>(f.id, "/viz/cell_offsets");
   const auto element = read<int>(f.id, "/viz/element");
   const auto viz_axial = read<double>(f.id, "/viz/axial_force");
   const auto viz_member = read<int>(f.id, "/viz/member");
@@ -686,24 +714,23 @@ bodies:
   const auto polylines = truss.axis_polylines(s.element_slots(0), s.context());
   const std::vector<double> forces = truss.member_axial_forces(s.element_slots(0));
   ASSERT_EQ(polylines.size(), forces.size());
-  std::size_t expected_lines = 0;
-  for (const auto& p : polylines) expected_lines += p.size() - 1;
-  ASSERT_EQ(element.v.size(), expected_lines);
-  // Lines come polyline by polyline, so member m owns the next (points - 1) lines.
-  std::size_t l = 0;
+  // One cell per member, in member order, through its axis points.
+  ASSERT_EQ(element.v.size(), polylines.size());
+  ASSERT_EQ(viz_axial.dims, (std::vector<hsize_t>{2, polylines.size()}));
+  ASSERT_EQ(section_forces.dims, (std::vector<hsize_t>{2, polylines.size(), 12}));
   double smallest = INFINITY, largest = -INFINITY;
-  for (std::size_t m = 0; m < polylines.size(); ++m)
-    for (std::size_t i = 0; i + 1 < polylines[m].size(); ++i, ++l) {
-      EXPECT_EQ(element.v[l], 0);
-      EXPECT_EQ(viz_axial.at({1, l}), forces[m]) << "member " << m;
-      // Each line carries its own member's recovered resultants and stress.
-      EXPECT_EQ(viz_member.v[l], static_cast<int>(m));
-      EXPECT_EQ(section_forces.at({1, l, 0}), out.members[m].end[0].N) << "member " << m;
-      EXPECT_EQ(section_forces.at({1, l, 10}), out.members[m].end[1].My) << "member " << m;
-      EXPECT_EQ(von_mises.at({1, l}), out.members[m].von_mises) << "member " << m;
-      smallest = std::min(smallest, forces[m]);
-      largest = std::max(largest, forces[m]);
-    }
+  for (std::size_t m = 0; m < polylines.size(); ++m) {
+    EXPECT_EQ(element.v[m], 0);
+    EXPECT_EQ(cells.v[static_cast<std::size_t>(offsets.v[m]) + 1], static_cast<int>(polylines[m].size()));
+    EXPECT_EQ(viz_axial.at({1, m}), forces[m]) << "member " << m;
+    // Each cell carries its own member's recovered resultants and stress.
+    EXPECT_EQ(viz_member.v[m], static_cast<int>(m));
+    EXPECT_EQ(section_forces.at({1, m, 0}), out.members[m].end[0].N) << "member " << m;
+    EXPECT_EQ(section_forces.at({1, m, 10}), out.members[m].end[1].My) << "member " << m;
+    EXPECT_EQ(von_mises.at({1, m}), out.members[m].von_mises) << "member " << m;
+    smallest = std::min(smallest, forces[m]);
+    largest = std::max(largest, forces[m]);
+  }
   EXPECT_GT(largest - smallest, 1e3);  // the members really differ, so a mix-up would show
   expect_xdmf_matches(writer.xdmf_path(), f.id, {0.0, 0.1});
 }
@@ -792,7 +819,7 @@ bodies:
 TEST(Xdmf, ConstraintsAreNamedBlocksUpToALimit) {
   for (const int n : {3, io::kMaxNamedConstraints, io::kMaxNamedConstraints + 1}) {
     SCOPED_TRACE(n);
-    io::XdmfLayout layout{"r.h5", "t", 4, 2, 5, n, {}, {}};
+    io::XdmfLayout layout{"r.h5", "t", 4, 2, 8, 5, n, {}, {}};  // 2 cells of 2 points: 8 entries
     for (int c = 0; c < n; ++c) layout.constraint_names.push_back("c<" + std::to_string(c) + ">");
     io::XdmfDocument doc(layout);
     doc.add_step(0.0);
@@ -815,7 +842,7 @@ TEST(Xdmf, ConstraintsAreNamedBlocksUpToALimit) {
 TEST(Xdmf, WriteStreamsTheSameTextAsText) {
   ScratchDir dir;
   fs::create_directories(dir.path);
-  io::XdmfLayout layout{"r.h5", "t", 4, 2, 5, 3, {"a", "b", "c"}, {}};
+  io::XdmfLayout layout{"r.h5", "t", 4, 2, 8, 5, 3, {"a", "b", "c"}, {}};
   io::XdmfDocument doc(layout);
   const fs::path path = dir.path / "r.xdmf";
   for (int steps = 0; steps <= 12; steps += 4) {
@@ -865,8 +892,10 @@ TEST(Xdmf, ReplaceFileKeepsTheOldFileWhenWritingFails) {
 TEST(Xdmf, BodiesAreNamedBlocksUpToALimit) {
   for (const int n : {0, 1, io::kMaxNamedBodies, io::kMaxNamedBodies + 1}) {
     SCOPED_TRACE(n);
-    io::XdmfLayout layout{"r.h5", "t", 2 * n + 2, n + 1, 0, 0, {}, {}};
-    for (int b = 0; b < n; ++b) layout.bodies.push_back(io::XdmfBody{"b&" + std::to_string(b), b, 1, 2 * b, 2});
+    // n + 1 cells of 2 points: 4 entries each.
+    io::XdmfLayout layout{"r.h5", "t", 2 * n + 2, n + 1, 4 * (n + 1), 0, 0, {}, {}};
+    for (int b = 0; b < n; ++b)
+      layout.bodies.push_back(io::XdmfBody{"b&" + std::to_string(b), b, 1, 2 * b, 2, 4 * b, 4});
     io::XdmfDocument doc(layout);
     doc.add_step(0.0);
     doc.add_step(0.5);
@@ -880,9 +909,11 @@ TEST(Xdmf, BodiesAreNamedBlocksUpToALimit) {
               !named);
     EXPECT_EQ(x.find("<Grid Name=\"b&amp;0\" GridType=\"Collection\" CollectionType=\"Temporal\">") != std::string::npos,
               named);
-    if (named) {  // the last body: its line (row n - 1 of n + 1) and its two points from 2 n - 2
+    if (named) {  // the last body: its cell (row n - 1 of n + 1, entries 4 n - 4 to 4 n of the
+                  // mixed topology) and its two points from 2 n - 2
       const std::string last = std::to_string(n - 1), point = std::to_string(2 * n - 2);
-      EXPECT_NE(x.find(">" + last + " 0 1 1 1 2</DataItem>"), std::string::npos);
+      EXPECT_NE(x.find(">" + std::to_string(4 * n - 4) + " 1 4</DataItem>"), std::string::npos);
+      EXPECT_NE(x.find(">" + last + " 1 1</DataItem>"), std::string::npos);  // its body and element
       EXPECT_NE(x.find(">1 " + point + " 0 1 1 1 1 2 3</DataItem>"), std::string::npos);
       EXPECT_NE(x.find(">1 " + last + " 1 1 1 1</DataItem>"), std::string::npos);  // its axial force at step 1
     }
@@ -890,7 +921,7 @@ TEST(Xdmf, BodiesAreNamedBlocksUpToALimit) {
 }
 
 // With output.body_blocks, each drawn body is a block of its own named after it: its rows of the
-// /viz datasets, its cells numbered from its first point (/viz/body_lines).
+// /viz datasets, its cells numbered from its first point (/viz/body_cells).
 TEST(ResultWriter, BodyBlocksNameEachBodyAndSelectItsRows) {
   ScratchDir dir;
   Recording run(testing::kitchen_sink_model(), 2);
@@ -902,14 +933,15 @@ TEST(ResultWriter, BodyBlocksNameEachBodyAndSelectItsRows) {
   writer.close();
 
   H5File f(writer.h5_path());
-  const auto lines = read<int>(f.id, "/viz/lines"), local = read<int>(f.id, "/viz/body_lines");
+  const auto cells = read<int>(f.id, "/viz/cells"), local = read<int>(f.id, "/viz/body_cells");
+  const auto offsets = read<int>(f.id, "/viz/cell_offsets");
   const auto body = read<int>(f.id, "/viz/body");
-  ASSERT_EQ(local.dims, lines.dims);
-  // The drawn bodies in line order, each one run of lines.
+  ASSERT_EQ(local.dims, cells.dims);
+  // The drawn bodies in cell order, each one run of cells.
   std::vector<std::string> names;
   std::vector<std::size_t> first{0};
-  for (std::size_t l = 0; l < body.v.size(); ++l)
-    if (l > 0 && body.v[l] != body.v[l - 1]) first.push_back(l);
+  for (std::size_t c = 0; c < body.v.size(); ++c)
+    if (c > 0 && body.v[c] != body.v[c - 1]) first.push_back(c);
   first.push_back(body.v.size());
   ASSERT_GE(first.size(), 4u);  // at least three bodies drawn
   const std::string text = slurp(writer.xdmf_path());
@@ -917,15 +949,23 @@ TEST(ResultWriter, BodyBlocksNameEachBodyAndSelectItsRows) {
     const std::size_t from = first[i], to = first[i + 1];
     names.push_back(model.bodies[body.v[from]].name);
     SCOPED_TRACE(names.back());
-    int lo = lines.v[2 * from], hi = lo;
-    for (std::size_t k = 2 * from; k < 2 * to; ++k) {
-      lo = std::min(lo, lines.v[k]);
-      hi = std::max(hi, lines.v[k]);
+    int lo = cells.v[static_cast<std::size_t>(offsets.v[from]) + 2], hi = lo;
+    for (std::size_t c = from; c < to; ++c)
+      for (int k = offsets.v[c] + 2; k < offsets.v[c + 1]; ++k) {
+        lo = std::min(lo, cells.v[static_cast<std::size_t>(k)]);
+        hi = std::max(hi, cells.v[static_cast<std::size_t>(k)]);
+      }
+    // Its cells numbered from its first point; the types and counts as they are.
+    for (std::size_t c = from; c < to; ++c) {
+      const auto at = static_cast<std::size_t>(offsets.v[c]);
+      EXPECT_EQ(local.v[at], cells.v[at]);
+      EXPECT_EQ(local.v[at + 1], cells.v[at + 1]);
+      for (auto k = at + 2; k < static_cast<std::size_t>(offsets.v[c + 1]); ++k) EXPECT_EQ(local.v[k] + lo, cells.v[k]);
     }
-    for (std::size_t k = 2 * from; k < 2 * to; ++k) EXPECT_EQ(local.v[k] + lo, lines.v[k]);
-    const std::string count = std::to_string(to - from), points = std::to_string(hi - lo + 1);
-    // Its block selects its cells and, at every step, its points.
-    EXPECT_NE(text.find(">" + std::to_string(from) + " 0 1 1 " + count + " 2</DataItem>"), std::string::npos);
+    const std::string entries = std::to_string(offsets.v[to] - offsets.v[from]), points = std::to_string(hi - lo + 1);
+    // Its block selects its cells' entries, its rows of the per-cell data and, at every step, its points.
+    EXPECT_NE(text.find(">" + std::to_string(offsets.v[from]) + " 1 " + entries + "</DataItem>"), std::string::npos);
+    EXPECT_NE(text.find(">" + std::to_string(from) + " 1 " + std::to_string(to - from) + "</DataItem>"), std::string::npos);
     for (int step : {0, 1})
       EXPECT_NE(text.find(">" + std::to_string(step) + " " + std::to_string(lo) + " 0 1 1 1 1 " + points + " 3</DataItem>"),
                 std::string::npos);
@@ -933,18 +973,23 @@ TEST(ResultWriter, BodyBlocksNameEachBodyAndSelectItsRows) {
   expect_xdmf_matches(writer.xdmf_path(), f.id, {0.0, 0.1}, true, constraint_names(model), names);
 }
 
-// A body whose lines come in two runs cannot be a block of its own without copying its data: the
+// A body whose cells come in two runs cannot be a block of its own without copying its data: the
 // ranges are then empty (and the XDMF draws one block of all).
-TEST(VizGeometry, BodyRangesNeedEachBodysLinesInOneRun) {
+TEST(VizGeometry, BodyRangesNeedEachBodysCellsInOneRun) {
   Recording run(testing::kitchen_sink_model(), 1);
-  const auto ranges = io::VizGeometry::plan(run.states[0]).body_ranges();
+  const io::VizGeometry viz = io::VizGeometry::plan(run.states[0]);
+  const auto ranges = viz.body_ranges();
   ASSERT_GE(ranges.size(), 2u);
-  int lines = 0;
+  int cells = 0, entries = 0;
   for (const auto& r : ranges) {
-    EXPECT_EQ(r.first_line, lines);
-    lines += r.lines;
+    EXPECT_EQ(r.first_cell, cells);
+    EXPECT_EQ(r.first_entry, entries);
+    EXPECT_EQ(r.first_entry, viz.cell_offsets()[static_cast<std::size_t>(r.first_cell)]);
+    cells += r.cells;
+    entries += r.entries;
   }
-  EXPECT_EQ(lines, io::VizGeometry::plan(run.states[0]).num_lines());
+  EXPECT_EQ(cells, viz.num_cells());
+  EXPECT_EQ(entries, static_cast<int>(viz.cells().size()));
   // The first element given to the body of the last one drawn: that body now has two runs.
   std::size_t e = 0;
   while (run.model.elements[e].body != ranges[0].body) ++e;
