@@ -65,7 +65,7 @@ class VizGeometry {
     bool joint = true;
     int index = -1;
   };
-  /// A cell through points [first, first + n) in turn, or through `a` and `b` (rigid bodies).
+  /// A cell through `points` in turn, and its segments as lines.
   void add_cell(const std::vector<int>& points, int body, int element, int polyline = -1);
   void add_rigid_body(const Model& model, int body);
 
