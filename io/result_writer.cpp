@@ -580,13 +580,24 @@ void ResultWriter::Impl::create_viz() {
             std::copy_n(joint_axes.data() + 9 * j + 3 * axis, 3, out + 3 * j);
         },
         true);
-  io::XdmfLayout layout{h5.filename().string(), model.title.empty() ? opts.base_name : model.title,
-                        viz->num_points(), viz->num_cells(), static_cast<int>(viz->cells().size()),
-                        nj, nc, constraint_names(), {}};
+  io::XdmfLayout layout{.h5_name = h5.filename().string(),
+                        .title = model.title.empty() ? opts.base_name : model.title,
+                        .points = viz->num_points(),
+                        .cells = viz->num_cells(),
+                        .cell_entries = static_cast<int>(viz->cells().size()),
+                        .joints = nj,
+                        .constraints = nc,
+                        .constraint_names = constraint_names(),
+                        .bodies = {}};
   if (opts.body_blocks)
     for (const io::VizGeometry::BodyRange& r : viz->body_ranges())
-      layout.bodies.push_back(io::XdmfBody{model.bodies[r.body].name, r.first_cell, r.cells, r.first_point, r.points,
-                                           r.first_entry, r.entries});
+      layout.bodies.push_back(io::XdmfBody{.name = model.bodies[r.body].name,
+                                           .first_cell = r.first_cell,
+                                           .cells = r.cells,
+                                           .first_point = r.first_point,
+                                           .points = r.points,
+                                           .first_entry = r.first_entry,
+                                           .entries = r.entries});
   // Each body block's cells, numbered from the body's first point (a run continued without body
   // blocks before gets them now).
   if (layout.names_bodies() && (!continuing || H5Lexists(g.get(), "body_cells", H5P_DEFAULT) <= 0)) {

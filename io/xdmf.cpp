@@ -95,7 +95,10 @@ void XdmfDocument::format_step(const std::string& step, const std::string& time_
   // dataset's `rows` (n when empty), which the HDF item declares.
   auto slab_columns = [&](const char* dataset, const std::string& n, int columns, const std::string& at,
                           const char* precision = "8", const std::string& first = "0", const std::string& rows = "") {
-    const std::string c = columns > 0 ? " " + std::to_string(columns) : "";
+    // Appended, not " " + to_string(...): GCC 12 misreads that insert at the front as an
+    // overlapping memcpy (-Wrestrict).
+    std::string c;
+    if (columns > 0) c.append(" ").append(std::to_string(columns));
     put("            <DataItem ItemType=\"HyperSlab\" Type=\"HyperSlab\" Dimensions=\"1 " + n + c + "\">\n");
     if (columns > 0)
       put("              <DataItem Dimensions=\"3 3\" NumberType=\"Int\" Format=\"XML\">" + at + " " + first +
@@ -200,7 +203,9 @@ void XdmfDocument::format_step(const std::string& step, const std::string& time_
     put("        </Grid>\n");
   };
   if (named_bodies_.empty())
-    member_grid(members_, XdmfBody{"", 0, layout_.cells, 0, layout_.points, 0, layout_.cell_entries}, true);
+    member_grid(members_,
+                XdmfBody{.name = "", .cells = layout_.cells, .points = layout_.points, .entries = layout_.cell_entries},
+                true);
   for (std::size_t b = 0; b < named_bodies_.size(); ++b) member_grid(named_bodies_[b], layout_.bodies[b], false);
 
   if (layout_.joints > 0) {

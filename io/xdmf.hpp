@@ -15,14 +15,14 @@ namespace latticedyn::io {
 /// per-cell datasets and of /viz/points), and its entries of /viz/body_cells (its cells in the
 /// mixed-topology layout of /viz/cells, numbered from its first point).
 struct XdmfBody {
-  std::string name;
+  std::string name{};
   int first_cell = 0, cells = 0, first_point = 0, points = 0, first_entry = 0, entries = 0;
 };
 
 /// What the XDMF refers to. The .h5 is addressed by file name only, so the folder can be moved.
 struct XdmfLayout {
-  std::string h5_name;  ///< e.g. "results.h5"
-  std::string title;    ///< name of the temporal collection
+  std::string h5_name{};  ///< e.g. "results.h5"
+  std::string title{};    ///< name of the temporal collection
   int points = 0;       ///< rows of /viz/points per step
   int cells = 0;        ///< polyline cells: rows of the per-cell datasets (/viz/body, /viz/von_mises, ...)
   int cell_entries = 0; ///< entries of /viz/cells (per cell its type, point count and points)
@@ -30,10 +30,10 @@ struct XdmfLayout {
   int constraints = 0;  ///< rows of /constraints/position per step (0: no "constraints" block)
   /// The constraints' names: with at most kMaxNamedConstraints of them, "constraints" holds one
   /// block per constraint, named after it (ParaView lists them by name); else one block of all.
-  std::vector<std::string> constraint_names;
+  std::vector<std::string> constraint_names{};
   /// The drawn bodies: with 1 to kMaxNamedBodies of them, "members" holds one block per body,
   /// named after it, whose cells and points are the body's rows of the /viz datasets.
-  std::vector<XdmfBody> bodies;
+  std::vector<XdmfBody> bodies{};
   /// Whether "members" is split into named body blocks (then the writer provides /viz/body_cells).
   bool names_bodies() const;
 };

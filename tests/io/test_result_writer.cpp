@@ -819,7 +819,9 @@ bodies:
 TEST(Xdmf, ConstraintsAreNamedBlocksUpToALimit) {
   for (const int n : {3, io::kMaxNamedConstraints, io::kMaxNamedConstraints + 1}) {
     SCOPED_TRACE(n);
-    io::XdmfLayout layout{"r.h5", "t", 4, 2, 8, 5, n, {}, {}};  // 2 cells of 2 points: 8 entries
+    // 2 cells of 2 points: 8 entries.
+    io::XdmfLayout layout{
+        .h5_name = "r.h5", .title = "t", .points = 4, .cells = 2, .cell_entries = 8, .joints = 5, .constraints = n};
     for (int c = 0; c < n; ++c) layout.constraint_names.push_back("c<" + std::to_string(c) + ">");
     io::XdmfDocument doc(layout);
     doc.add_step(0.0);
@@ -842,7 +844,14 @@ TEST(Xdmf, ConstraintsAreNamedBlocksUpToALimit) {
 TEST(Xdmf, WriteStreamsTheSameTextAsText) {
   ScratchDir dir;
   fs::create_directories(dir.path);
-  io::XdmfLayout layout{"r.h5", "t", 4, 2, 8, 5, 3, {"a", "b", "c"}, {}};
+  io::XdmfLayout layout{.h5_name = "r.h5",
+                        .title = "t",
+                        .points = 4,
+                        .cells = 2,
+                        .cell_entries = 8,
+                        .joints = 5,
+                        .constraints = 3,
+                        .constraint_names = {"a", "b", "c"}};
   io::XdmfDocument doc(layout);
   const fs::path path = dir.path / "r.xdmf";
   for (int steps = 0; steps <= 12; steps += 4) {
@@ -851,7 +860,9 @@ TEST(Xdmf, WriteStreamsTheSameTextAsText) {
     std::ifstream in(path, std::ios::binary);
     const std::string written((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     EXPECT_EQ(written, doc.text()) << steps << " steps";
-    if (steps > 0) EXPECT_NE(written.find("Dimensions=\"" + std::to_string(steps) + " 5 3\""), std::string::npos);
+    if (steps > 0) {
+      EXPECT_NE(written.find("Dimensions=\"" + std::to_string(steps) + " 5 3\""), std::string::npos);
+    }
   }
   EXPECT_NE(doc.text().find("<Time Value=\"2.75\"/>"), std::string::npos);  // step 11's time
 }
@@ -893,9 +904,15 @@ TEST(Xdmf, BodiesAreNamedBlocksUpToALimit) {
   for (const int n : {0, 1, io::kMaxNamedBodies, io::kMaxNamedBodies + 1}) {
     SCOPED_TRACE(n);
     // n + 1 cells of 2 points: 4 entries each.
-    io::XdmfLayout layout{"r.h5", "t", 2 * n + 2, n + 1, 4 * (n + 1), 0, 0, {}, {}};
+    io::XdmfLayout layout{.h5_name = "r.h5", .title = "t", .points = 2 * n + 2, .cells = n + 1, .cell_entries = 4 * (n + 1)};
     for (int b = 0; b < n; ++b)
-      layout.bodies.push_back(io::XdmfBody{"b&" + std::to_string(b), b, 1, 2 * b, 2, 4 * b, 4});
+      layout.bodies.push_back(io::XdmfBody{.name = "b&" + std::to_string(b),
+                                           .first_cell = b,
+                                           .cells = 1,
+                                           .first_point = 2 * b,
+                                           .points = 2,
+                                           .first_entry = 4 * b,
+                                           .entries = 4});
     io::XdmfDocument doc(layout);
     doc.add_step(0.0);
     doc.add_step(0.5);
@@ -964,10 +981,10 @@ TEST(ResultWriter, BodyBlocksNameEachBodyAndSelectItsRows) {
     }
     const std::string entries = std::to_string(offsets.v[to] - offsets.v[from]), points = std::to_string(hi - lo + 1);
     // Its block selects its cells' entries, its rows of the per-cell data and, at every step, its points.
-    EXPECT_NE(text.find(">" + std::to_string(offsets.v[from]) + " 1 " + entries + "</DataItem>"), std::string::npos);
-    EXPECT_NE(text.find(">" + std::to_string(from) + " 1 " + std::to_string(to - from) + "</DataItem>"), std::string::npos);
+    EXPECT_NE(text.find(std::string(">") + std::to_string(offsets.v[from]) + " 1 " + entries + "</DataItem>"), std::string::npos);
+    EXPECT_NE(text.find(std::string(">") + std::to_string(from) + " 1 " + std::to_string(to - from) + "</DataItem>"), std::string::npos);
     for (int step : {0, 1})
-      EXPECT_NE(text.find(">" + std::to_string(step) + " " + std::to_string(lo) + " 0 1 1 1 1 " + points + " 3</DataItem>"),
+      EXPECT_NE(text.find(std::string(">") + std::to_string(step) + " " + std::to_string(lo) + " 0 1 1 1 1 " + points + " 3</DataItem>"),
                 std::string::npos);
   }
   expect_xdmf_matches(writer.xdmf_path(), f.id, {0.0, 0.1}, true, constraint_names(model), names);
