@@ -587,8 +587,7 @@ void ResultWriter::Impl::create_viz() {
                         .cell_entries = static_cast<int>(viz->cells().size()),
                         .joints = nj,
                         .constraints = nc,
-                        .constraint_names = constraint_names(),
-                        .bodies = {}};
+                        .constraint_names = constraint_names()};
   if (opts.body_blocks)
     for (const io::VizGeometry::BodyRange& r : viz->body_ranges())
       layout.bodies.push_back(io::XdmfBody{.name = model.bodies[r.body].name,

@@ -204,7 +204,7 @@ void XdmfDocument::format_step(const std::string& step, const std::string& time_
   };
   if (named_bodies_.empty())
     member_grid(members_,
-                XdmfBody{.name = "", .cells = layout_.cells, .points = layout_.points, .entries = layout_.cell_entries},
+                XdmfBody{.cells = layout_.cells, .points = layout_.points, .entries = layout_.cell_entries},
                 true);
   for (std::size_t b = 0; b < named_bodies_.size(); ++b) member_grid(named_bodies_[b], layout_.bodies[b], false);
 

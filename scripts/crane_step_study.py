@@ -143,9 +143,9 @@ def main():
         return float(parts[0]), int(parts[1]), opt[0], opt[1]
 
     rows = []
-    ref_h = parse(args.reference)[0]
+    reference = parse(args.reference)
     for man in args.maneuvers:
-        h, r, rho, tol = parse(args.reference)
+        h, r, rho, tol = reference
         ref_h5, ref_cost = run(man, h, r, rho, tol, args.work, args.binary, args.interval, args.full)
         ref = load(ref_h5)
         rows.append(dict(maneuver=man, h=h, reuse=r, rho=rho or "", tol=tol or "", path_mm=0.0, rope_pct=0.0,
@@ -202,7 +202,7 @@ def main():
                              label=man + " fresh Jacobians")
         ax[0].axhline(2.0, color="k", ls="--", lw=0.8)
         ax[1].axhline(0.5, color="k", ls="--", lw=0.8)
-        ax[0].set(xlabel="time step h (s)", ylabel="load path error (mm)", title=f"load path vs. h = {ref_h:g} s, fresh Jacobians")
+        ax[0].set(xlabel="time step h (s)", ylabel="load path error (mm)", title=f"load path vs. h = {reference[0]:g} s, fresh Jacobians")
         ax[1].set(xlabel="time step h (s)", ylabel="rope force error (% of peak)", title="rope forces")
         for a in ax:
             a.grid(True, which="both", alpha=0.3)
