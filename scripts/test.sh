@@ -25,7 +25,7 @@ export OMPI_MCA_rmaps_base_oversubscribe=1
 ctest --test-dir "${LATTICEDYN_BUILD_DIR:-build}" --output-on-failure -j "$(nproc)" "$@"
 phase_done "the test suite"
 # Then the unit tests and verification cases again under AddressSanitizer and
-# UndefinedBehaviorSanitizer (a second build, about half an hour on two cores;
+# UndefinedBehaviorSanitizer (a second build at -O1, with its tests about 40 minutes on two cores;
 # LATTICEDYN_SKIP_SANITIZE=1 leaves it out).
 if [ "${LATTICEDYN_SKIP_SANITIZE:-0}" != 1 ]; then
   disk_free "before the sanitizer build"
