@@ -9,8 +9,8 @@ jobs=${LATTICEDYN_JOBS:-$(nproc)}
 # Line tables only (-g1), compressed (-gz): the sanitizers' reports still name file and line, and
 # the build takes a fraction of the disk full debug information needs (every test program links
 # the static layers; full -g filled a CI machine's disk). -O1, ASan's recommended level: every
-# check stays, and the build takes three quarters of its time at -O2 (21.8 against 29.2 min on
-# two cores, 2026-12-06; it was two thirds of this script and CI's largest phase).
+# check stays and the build, CI's largest phase, is a quarter shorter than at -O2
+# (docs/reliability.md).
 debug_flags="-O1 -g1 -gz -DNDEBUG"
 cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DLATTICEDYN_SANITIZE=address,undefined \
       -DCMAKE_C_FLAGS_RELWITHDEBINFO="$debug_flags" -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="$debug_flags" \
