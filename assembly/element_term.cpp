@@ -33,11 +33,13 @@ ElementTerm::ElementTerm(const Model& model, const DofMap& dofs, MPI_Comm comm) 
   for (std::size_t i = 0; i < elements.size();) {
     const Element& e = *model_.elements[elements[i]].element;
     const std::size_t width = static_cast<std::size_t>(std::clamp(e.batch_size(), 1, kMaxElementBatch));
+    // A run is elements of one type (one batched kernel) that are all threaded or all not.
+    auto joins_run = [&](std::size_t k) {
+      const Element& other = *model_.elements[elements[k]].element;
+      return typeid(other) == typeid(e) && (buffer_of_[k] < 0) == (buffer_of_[i] < 0);
+    };
     std::size_t n = 1;
-    while (n < width && i + n < elements.size() &&
-           typeid(*model_.elements[elements[i + n]].element) == typeid(e) &&
-           (buffer_of_[i + n] < 0) == (buffer_of_[i] < 0))
-      ++n;
+    while (n < width && i + n < elements.size() && joins_run(i + n)) ++n;
     for (std::size_t k = 0; k < n; ++k) run_first_[i + k] = static_cast<int>(i);
     run_length_[i] = static_cast<int>(n);
     if (buffer_of_[i] >= 0) threaded_runs_.push_back(static_cast<int>(i));  // buffers i..i+n-1 are consecutive
