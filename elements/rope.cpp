@@ -1,5 +1,5 @@
-// Rope element: tension-only elastic energy by AD, inertia and gravity in closed form with the
-// rest length and its rates from the drive.
+// Rope element: tension-only elastic energy (its gradient in closed form, its Hessian by AD),
+// inertia and gravity in closed form with the rest length and its rates from the drive.
 #include "elements/rope.hpp"
 
 #include "core/quadrature.hpp"
@@ -150,14 +150,27 @@ void Rope::add_damping(std::span<const SlotState<double>> s, const ElementContex
 
 void Rope::residual(std::span<const SlotState<double>> s, const ElementContext& ctx, Eigen::Ref<VecX> r) const {
   inertia_and_gravity(s, ctx, r, nullptr);
-  RopeAD::FirstOrder ad;
   const double L0 = rest_length(ctx.time).value;
-  const auto U = strain_energy<decltype(ad)::S>(ad.vec(s[2].pos - s[0].pos, 0), ad.vec(s[1].pos, 3), ad.vec(s[3].pos, 6), L0);
-  RopeAD::Gradient g;
-  RopeAD::extract(U, nullptr, &g);
+  const Eigen::Matrix<double, 9, 1> g = strain_energy_gradient(s[2].pos - s[0].pos, s[1].pos, s[3].pos, L0);
   static const Eigen::Matrix<double, 12, 9> P = energy_to_dofs();
   r += P * g;
   add_damping(s, ctx, r, nullptr);
+}
+
+Eigen::Matrix<double, 9, 1> Rope::strain_energy_gradient(const Vec3& d, const Vec3& t1, const Vec3& t2,
+                                                         double L0) const {
+  Eigen::Matrix<double, 9, 1> grad = Eigen::Matrix<double, 9, 1>::Zero();
+  for (std::size_t g = 0; g < xi_.size(); ++g) {
+    const auto [dh1, dh2, dh4] = hermite_slopes(g);
+    const Vec3 rs = d * (dh1 / L0) + t1 * dh2 + t2 * dh4;
+    const double stretch = rs.norm(), eps = stretch - 1.0;
+    if (eps < -kSlackTolerance) continue;  // slack: no energy (the same test as strain_energy's)
+    const Vec3 f = (ea_ * L0 * w_[g] * eps / stretch) * rs;
+    grad.segment<3>(0) += (dh1 / L0) * f;
+    grad.segment<3>(3) += dh2 * f;
+    grad.segment<3>(6) += dh4 * f;
+  }
+  return grad;
 }
 
 void Rope::tangents(std::span<const SlotState<double>> s, const ElementContext& ctx, ElementTangents& out) const {

@@ -68,6 +68,10 @@ class Rope final : public Element {
   /// The axial strain |dr/dS| - 1 at Gauss point g (L0 a double, or a number of the AD type).
   template <class S, class L>
   S gauss_strain(const Vec3T<S>& d, const Vec3T<S>& t1, const Vec3T<S>& t2, const L& L0, std::size_t g) const;
+  /// The strain energy's gradient with respect to (d, t1, t2) in closed form: at each taut Gauss
+  /// point dU/d(dr/dS) = EA L0 w eps (dr/dS)/|dr/dS|, spread by the Hermite slopes. (The
+  /// residual's; the tangents differentiate strain_energy by AD, which the tests compare it to.)
+  Eigen::Matrix<double, 9, 1> strain_energy_gradient(const Vec3& d, const Vec3& t1, const Vec3& t2, double L0) const;
 
  private:
   /// Adds the Kelvin-Voigt force beta E A eps_dot of the taut Gauss points to r and, with t, its
@@ -76,6 +80,16 @@ class Rope final : public Element {
                    ElementTangents* t) const;
   void inertia_and_gravity(std::span<const SlotState<double>> s, const ElementContext& ctx, Eigen::Ref<VecX> r,
                            ElementTangents* t) const;
+
+  struct HermiteSlopes {
+    double dh1, dh2, dh4;
+  };
+  /// dH1/dxi, dH2/dxi, dH4/dxi at Gauss point g: dr/dS = (dH1/dxi r1 + dH3/dxi r2)/L0 +
+  /// dH2/dxi r1' + dH4/dxi r2', with dH3 = -dH1.
+  HermiteSlopes hermite_slopes(std::size_t g) const {
+    const double x = xi_[g], x2 = x * x;
+    return {6 * x - 6 * x2, 1 - 4 * x + 3 * x2, 3 * x2 - 2 * x};
+  }
 
   RopeProperties props_;
   double rho_a_ = 0.0, ea_ = 0.0;
@@ -86,9 +100,7 @@ class Rope final : public Element {
 template <class S, class L>
 S Rope::gauss_strain(const Vec3T<S>& d, const Vec3T<S>& t1, const Vec3T<S>& t2, const L& L0, std::size_t g) const {
   using std::sqrt;
-  const double x = xi_[g], x2 = x * x;
-  // dr/dS = (dH1/dxi r1 + dH3/dxi r2)/L0 + dH2/dxi r1' + dH4/dxi r2'; dH3 = -dH1.
-  const double dh1 = 6 * x - 6 * x2, dh2 = 1 - 4 * x + 3 * x2, dh4 = 3 * x2 - 2 * x;
+  const auto [dh1, dh2, dh4] = hermite_slopes(g);
   const Vec3T<S> rs = d * (dh1 / L0) + t1 * dh2 + t2 * dh4;  // constants as doubles: cheap AD products
   return sqrt(rs.squaredNorm()) - 1.0;
 }

@@ -98,6 +98,23 @@ TEST(Rope, TangentsMatchFiniteDifferencesAtLargeRotationsAndPartlySlack) {
   }
 }
 
+// The residual's strain energy gradient is in closed form, the tangents' by AD of the same energy:
+// at steel's stiffness, taut and partly slack, they agree to round-off.
+TEST(Rope, ClosedFormGradientMatchesAutomaticDifferentiation) {
+  std::mt19937 rng(35);
+  const Rope cable(rope());
+  const ElementContext ctx{Vec3(0, 0, -9.81), 0.0};
+  for (int trial = 0; trial < 20; ++trial) {
+    const auto s = rotated(trial % 2 ? partly_slack_state(rng) : taut_state(rng), rng);
+    VecX r(12);
+    cable.residual(s, ctx, r);
+    ElementTangents t;
+    cable.tangents(s, ctx, t);
+    ASSERT_GT(r.norm(), 1e3);  // tension of steel: the comparison is not between zeros
+    EXPECT_LT((r - t.residual).cwiseAbs().maxCoeff(), 1e-13 * r.cwiseAbs().maxCoeff()) << "trial " << trial;
+  }
+}
+
 TEST(Rope, RigidMotionCarriesNoForceInAnyOrientation) {
   std::mt19937 rng(35);
   const Rope cable(rope(5.0));
