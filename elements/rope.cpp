@@ -161,11 +161,11 @@ Eigen::Matrix<double, 9, 1> Rope::strain_energy_gradient(const Vec3& d, const Ve
                                                          double L0) const {
   Eigen::Matrix<double, 9, 1> grad = Eigen::Matrix<double, 9, 1>::Zero();
   for (std::size_t g = 0; g < xi_.size(); ++g) {
-    const auto [dh1, dh2, dh4] = hermite_slopes(g);
-    const Vec3 rs = d * (dh1 / L0) + t1 * dh2 + t2 * dh4;
+    const Vec3 rs = gauss_slope(d, t1, t2, L0, g);
     const double stretch = rs.norm(), eps = stretch - 1.0;
     if (eps < -kSlackTolerance) continue;  // slack: no energy (the same test as strain_energy's)
     const Vec3 f = (ea_ * L0 * w_[g] * eps / stretch) * rs;
+    const auto [dh1, dh2, dh4] = hermite_slopes(g);
     grad.segment<3>(0) += (dh1 / L0) * f;
     grad.segment<3>(3) += dh2 * f;
     grad.segment<3>(6) += dh4 * f;

@@ -68,12 +68,18 @@ class Rope final : public Element {
   /// The axial strain |dr/dS| - 1 at Gauss point g (L0 a double, or a number of the AD type).
   template <class S, class L>
   S gauss_strain(const Vec3T<S>& d, const Vec3T<S>& t1, const Vec3T<S>& t2, const L& L0, std::size_t g) const;
+
+ private:
   /// The strain energy's gradient with respect to (d, t1, t2) in closed form: at each taut Gauss
   /// point dU/d(dr/dS) = EA L0 w eps (dr/dS)/|dr/dS|, spread by the Hermite slopes. (The
   /// residual's; the tangents differentiate strain_energy by AD, which the tests compare it to.)
   Eigen::Matrix<double, 9, 1> strain_energy_gradient(const Vec3& d, const Vec3& t1, const Vec3& t2, double L0) const;
-
- private:
+  /// dr/dS at Gauss point g.
+  template <class S, class L>
+  Vec3T<S> gauss_slope(const Vec3T<S>& d, const Vec3T<S>& t1, const Vec3T<S>& t2, const L& L0, std::size_t g) const {
+    const auto [dh1, dh2, dh4] = hermite_slopes(g);
+    return d * (dh1 / L0) + t1 * dh2 + t2 * dh4;  // constants as doubles: cheap AD products
+  }
   /// Adds the Kelvin-Voigt force beta E A eps_dot of the taut Gauss points to r and, with t, its
   /// K and C; eps_dot includes the strain rate of a driven rest length.
   void add_damping(std::span<const SlotState<double>> s, const ElementContext& ctx, Eigen::Ref<VecX> r,
@@ -100,9 +106,7 @@ class Rope final : public Element {
 template <class S, class L>
 S Rope::gauss_strain(const Vec3T<S>& d, const Vec3T<S>& t1, const Vec3T<S>& t2, const L& L0, std::size_t g) const {
   using std::sqrt;
-  const auto [dh1, dh2, dh4] = hermite_slopes(g);
-  const Vec3T<S> rs = d * (dh1 / L0) + t1 * dh2 + t2 * dh4;  // constants as doubles: cheap AD products
-  return sqrt(rs.squaredNorm()) - 1.0;
+  return sqrt(gauss_slope(d, t1, t2, L0, g).squaredNorm()) - 1.0;
 }
 
 template <class S>
