@@ -108,7 +108,10 @@ class SystemAssembler {
   PetscErrorCode scatter_in(const EvaluationPoint& at);
   /// Constraint c's inputs at time t on the block states of the last compute_states.
   ConstraintInputs local_constraint_inputs(int c, double t) const;
-  PetscErrorCode compute_states(const EvaluationSettings& how, bool with_chain, double cq, double cv, double ca);
+  /// The block states (and, with_chain, chain maps) of `blocks`, by default every block the rank's
+  /// terms read, from the local vectors of the last scatter_in.
+  PetscErrorCode compute_states(const EvaluationSettings& how, bool with_chain, double cq, double cv, double ca,
+                                const std::vector<int>* blocks = nullptr);
   /// cq d(T^T y)/dphi on the diagonal block of every rotation block (y: its rows' residual in
   /// omega-variables), into J's values where rotation_fill_ knows the places, else by MatSetValues.
   PetscErrorCode add_rotation_row_derivatives(Mat J, const std::vector<Vec3>& y, double cq);
@@ -134,6 +137,7 @@ class SystemAssembler {
   ConstraintTerm constraints_;
   FirstError errors_;
   std::vector<char> constrained_;  // blocks of this rank's constraints: the only users of state_c_
+  std::vector<int> constraint_blocks_;  // the same as a list, for what reads constraints alone
   std::vector<Mat3> rows_T_;  // T(phi)^T per block (rotation-vector rates), identity otherwise
   std::vector<Vec3> phi_;     // rotation vectors of needed rotation blocks
   MatrixFill rotation_fill_;  // places of the rotation blocks' diagonal blocks in the Jacobian

@@ -11,6 +11,7 @@
 #include <petscvec.h>
 
 #include <random>
+#include <set>
 
 namespace latticedyn {
 namespace {
@@ -219,6 +220,69 @@ TEST(SystemAssembler, PreallocationIsExactAndPatternFixed) {
   MatDestroy(&J);
   VecDestroy(&U);
   VecDestroy(&V);
+}
+
+// The violation reported after every step: the largest |g| over the constraints and the one it
+// belongs to, equal to the constraint values evaluated on every block's state (constraint_values);
+// the block states left by an evaluation at another point must not leak in (only the constraints'
+// blocks are evaluated); nothing for a model without constraints.
+TEST(SystemAssembler, MaxConstraintViolationNamesTheWorstConstraint) {
+  const Model model = testing::kitchen_sink_model();
+  SystemAssembler sa(model, PETSC_COMM_SELF);
+  Vec U, V, other, G;
+  for (Vec* v : {&U, &V, &other, &G}) ASSERT_EQ(sa.create_vector(v), 0);
+  ASSERT_EQ(sa.initial_state(U, V), 0);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1, 1);
+  const Eigen::VectorXd q0 = to_eigen(U);
+  std::vector<int> worst_seen;
+  for (int trial = 0; trial < 6; ++trial) {
+    Eigen::VectorXd q = q0, p = q0;
+    for (int i = 0; i < q.size(); ++i) {
+      q(i) += 0.3 * u(rng);
+      p(i) += 0.3 * u(rng);
+    }
+    from_eigen(q, U);
+    from_eigen(p, other);
+    const double t = 0.15 * trial;  // the driven hinge's angle moves with t
+    ASSERT_EQ(sa.constraint_values(other, V, t, false, G), 0);  // every block's state at another point
+    double value = -1.0;
+    int where = -2;
+    ASSERT_EQ(sa.max_constraint_violation(U, t, &value, &where), 0);
+    ASSERT_EQ(sa.constraint_values(U, V, t, false, G), 0);
+    const Eigen::VectorXd g = to_eigen(G);
+    double expected = -1.0;
+    int worst = -1;
+    for (int c = 0; c < static_cast<int>(model.constraints.size()); ++c)
+      for (int j = 0; j < model.constraints[c].rows(); ++j)
+        if (std::abs(g(sa.dofs().multiplier_dof(c) + j)) > expected) {
+          expected = std::abs(g(sa.dofs().multiplier_dof(c) + j));
+          worst = c;
+        }
+    EXPECT_EQ(where, worst) << "trial " << trial;
+    EXPECT_NEAR(value, expected, 1e-14 * expected) << "trial " << trial;
+    EXPECT_GT(value, 1e-3);  // violated: the state is off the constraints
+    worst_seen.push_back(worst);
+  }
+  // Different constraints are the worst in different trials: the index is not a constant.
+  EXPECT_GT(std::set<int>(worst_seen.begin(), worst_seen.end()).size(), 1u);
+  for (Vec* v : {&U, &V, &other, &G}) VecDestroy(v);
+
+  ModelBuilder b;
+  testing::add_rigid_body(b, "alone", 2.0, Vec3(0.5, 0, 0), Vec3(0.1, 0.2, 0.3));
+  const Model free_body = b.build();
+  SystemAssembler sf(free_body, PETSC_COMM_SELF);
+  Vec W, Wv;
+  ASSERT_EQ(sf.create_vector(&W), 0);
+  ASSERT_EQ(sf.create_vector(&Wv), 0);
+  ASSERT_EQ(sf.initial_state(W, Wv), 0);
+  double value = -1.0;
+  int where = 5;
+  ASSERT_EQ(sf.max_constraint_violation(W, 0.0, &value, &where), 0);
+  EXPECT_EQ(value, 0.0);
+  EXPECT_EQ(where, -1);
+  VecDestroy(&W);
+  VecDestroy(&Wv);
 }
 
 TEST(SystemAssembler, SharedNodesCostNoMultipliers) {
