@@ -254,11 +254,13 @@ TEST(SystemAssembler, MaxConstraintViolationNamesTheWorstConstraint) {
     double expected = -1.0;
     int worst = -1;
     for (int c = 0; c < static_cast<int>(model.constraints.size()); ++c)
-      for (int j = 0; j < model.constraints[c].rows(); ++j)
-        if (std::abs(g(sa.dofs().multiplier_dof(c) + j)) > expected) {
-          expected = std::abs(g(sa.dofs().multiplier_dof(c) + j));
+      for (int j = 0; j < model.constraints[c].rows(); ++j) {
+        const double gj = std::abs(g(sa.dofs().multiplier_dof(c) + j));
+        if (gj > expected) {
+          expected = gj;
           worst = c;
         }
+      }
     EXPECT_EQ(where, worst) << "trial " << trial;
     EXPECT_NEAR(value, expected, 1e-14 * expected) << "trial " << trial;
     EXPECT_GT(value, 1e-3);  // violated: the state is off the constraints
