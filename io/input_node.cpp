@@ -315,8 +315,11 @@ InputNode InputNode::operator[](const std::string& key) const {
 }
 
 std::optional<InputNode> InputNode::get(const std::string& key) const {
-  if (!has(key)) return std::nullopt;
-  return child(node_[key], key);
+  // One lookup, not has() and another: yaml-cpp searches a map key by key.
+  if (!node_.IsMap()) return std::nullopt;
+  const YAML::Node n = node_[key];
+  if (!n.IsDefined() || n.IsNull()) return std::nullopt;
+  return child(n, key);
 }
 
 std::vector<InputNode> InputNode::items() const {
@@ -402,22 +405,35 @@ std::string InputNode::as_choice(std::initializer_list<const char*> choices) con
   fail("'" + s + "' is not one of: " + join(choices));
 }
 
+namespace {
+
+// The value of an optional key, read by `as`, or the fallback: the key is looked up once (get), not
+// by has() and then operator[].
+template <class T, class As>
+T value_or(const std::optional<InputNode>& node, const T& fallback, As as) {
+  return node ? ((*node).*as)() : fallback;
+}
+
+}  // namespace
+
 double InputNode::get_double(const std::string& key, double fallback) const {
-  return has(key) ? (*this)[key].as_double() : fallback;
+  return value_or(get(key), fallback, &InputNode::as_double);
 }
 double InputNode::get_positive(const std::string& key, double fallback) const {
-  return has(key) ? (*this)[key].as_positive() : fallback;
+  return value_or(get(key), fallback, &InputNode::as_positive);
 }
 double InputNode::get_non_negative(const std::string& key, double fallback) const {
-  return has(key) ? (*this)[key].as_non_negative() : fallback;
+  return value_or(get(key), fallback, &InputNode::as_non_negative);
 }
-int InputNode::get_int(const std::string& key, int fallback) const { return has(key) ? (*this)[key].as_int() : fallback; }
-bool InputNode::get_bool(const std::string& key, bool fallback) const { return has(key) ? (*this)[key].as_bool() : fallback; }
+int InputNode::get_int(const std::string& key, int fallback) const { return value_or(get(key), fallback, &InputNode::as_int); }
+bool InputNode::get_bool(const std::string& key, bool fallback) const {
+  return value_or(get(key), fallback, &InputNode::as_bool);
+}
 std::string InputNode::get_string(const std::string& key, const std::string& fallback) const {
-  return has(key) ? (*this)[key].as_string() : fallback;
+  return value_or(get(key), fallback, &InputNode::as_string);
 }
 Vec3 InputNode::get_vec3(const std::string& key, const Vec3& fallback) const {
-  return has(key) ? (*this)[key].as_vec3() : fallback;
+  return value_or(get(key), fallback, &InputNode::as_vec3);
 }
 
 }  // namespace latticedyn
