@@ -99,12 +99,8 @@ void SystemAssembler::estimate_scales() {
   // sums a contiguous share of the elements and the shares are added up: this is setup work that
   // falls with ranks (at 1e6 unknowns half of the numbering stage was these element tangents,
   // computed in full by every rank). One rank sums in the element order as before, to the bit.
-  int rank = 0, ranks = 1;
-  MPI_Comm_rank(comm_, &rank);
-  MPI_Comm_size(comm_, &ranks);
-  const std::size_t ne = model_.elements.size();
-  const std::size_t first = ne * static_cast<std::size_t>(rank) / static_cast<std::size_t>(ranks);
-  const std::size_t last = ne * static_cast<std::size_t>(rank + 1) / static_cast<std::size_t>(ranks);
+  const std::size_t ne = model_.elements.size(), rank = dofs_.rank(), ranks = dofs_.size();
+  const std::size_t first = ne * rank / ranks, last = ne * (rank + 1) / ranks;
   double sums[4] = {0.0, 0.0, 0.0, 0.0};  // mass, stiffness, squared weights, translational DoFs
   double &mass = sums[0], &stiffness = sums[1], &load2 = sums[2], &count = sums[3];
   const ElementContext ctx{model_.gravity, 0.0};
@@ -136,7 +132,7 @@ void SystemAssembler::estimate_scales() {
       o += slot_size(kinds[k]);
     }
   }
-  if (ranks > 1) PetscCallAbort(comm_, MPI_Allreduce(MPI_IN_PLACE, sums, 4, MPI_DOUBLE, MPI_SUM, comm_));
+  PetscCallAbort(comm_, MPI_Allreduce(MPI_IN_PLACE, sums, 4, MPI_DOUBLE, MPI_SUM, comm_));
   for (const NodalLoad& l : model_.loads) load2 += l.force.squaredNorm();
   if (count > 0) {
     mass_scale_ = mass / count;

@@ -301,25 +301,32 @@ void InputNode::allow_only(std::initializer_list<const char*> allowed) const {
   }
 }
 
-bool InputNode::has(const std::string& key) const {
-  if (!node_.IsMap()) return false;
-  const YAML::Node n = node_[key];
-  return n.IsDefined() && !n.IsNull();
+namespace {
+
+// The value of `key` in `map` if the map has it with a value (a key written without one, `key:`,
+// counts as absent); one lookup, as yaml-cpp searches a map key by key.
+std::optional<YAML::Node> present_value(const YAML::Node& map, const std::string& key) {
+  if (!map.IsMap()) return std::nullopt;
+  YAML::Node n = map[key];
+  if (!n.IsDefined() || n.IsNull()) return std::nullopt;
+  return n;
 }
+
+}  // namespace
+
+bool InputNode::has(const std::string& key) const { return present_value(node_, key).has_value(); }
 
 InputNode InputNode::operator[](const std::string& key) const {
   if (!node_.IsMap()) fail("expected a map with key '" + key + "'");
-  const YAML::Node n = node_[key];
-  if (!n.IsDefined() || n.IsNull()) fail("missing required key '" + key + "'");
-  return child(n, key);
+  const auto n = present_value(node_, key);
+  if (!n) fail("missing required key '" + key + "'");
+  return child(*n, key);
 }
 
 std::optional<InputNode> InputNode::get(const std::string& key) const {
-  // One lookup, not has() and another: yaml-cpp searches a map key by key.
-  if (!node_.IsMap()) return std::nullopt;
-  const YAML::Node n = node_[key];
-  if (!n.IsDefined() || n.IsNull()) return std::nullopt;
-  return child(n, key);
+  const auto n = present_value(node_, key);
+  if (!n) return std::nullopt;
+  return child(*n, key);
 }
 
 std::vector<InputNode> InputNode::items() const {
