@@ -12,6 +12,9 @@
            ... --repeat times): the stepping's ratio per pair, its median and range. On a shared
            or virtual machine the speed of one run drifts by tens of per cent from hour to hour;
            pairs taken back to back see the same machine, so their ratio is the honest figure.
+           Each pair records both sides' Newton iterations (newton, newton_n) and warns when
+           they differ. Few steps from rest weigh the ranks' one-time preconditioner set-up:
+           --steps 20 gives the per-step ratio of longer runs.
 
   /usr/bin/python3 benchmarks/lattice_bays_study.py reuse --bays 10 640 --reuse 1 5 10 20 --steps 100 \\
       --out docs/perf/lattice_reuse
@@ -175,12 +178,17 @@ def speedup_study(a):
             s1 = one["stepping_ms_per_step"]
             sn = many["stepping_ms_per_step"]
             ratios.append(s1 / sn)
+            # A pair compares like with like only if both sides took the same Newton iterations.
+            if many["newton"] != one["newton"]:
+                print(f"{bays} bays, pair {rep + 1}: {one['newton']} Newton iterations on 1 rank, {many['newton']} on "
+                      f"{ranks}: the ratio mixes solver work with speed", file=sys.stderr)
             rows.append(dict(bays=bays, unknowns=one["unknowns"], pair=rep + 1, ranks=ranks, newton=one["newton"],
-                             ms_per_step_1=s1, ms_per_step_n=sn, speedup=s1 / sn))
+                             newton_n=many["newton"], ms_per_step_1=s1, ms_per_step_n=sn, speedup=s1 / sn))
             print(f"{bays} bays ({one['unknowns']} unknowns), pair {rep + 1}: {s1:.1f} ms/step on 1 rank, {sn:.1f} on "
                   f"{ranks}: {s1 / sn:.3f} x")
         summary.append((one["unknowns"], float(np.median(ratios)), min(ratios), max(ratios)))
-    write_table(a.out, rows, ["bays", "unknowns", "pair", "ranks", "newton", "ms_per_step_1", "ms_per_step_n", "speedup"])
+    write_table(a.out, rows,
+                ["bays", "unknowns", "pair", "ranks", "newton", "newton_n", "ms_per_step_1", "ms_per_step_n", "speedup"])
     with open(a.out + ".md", "a") as f:
         f.write(f"\n| unknowns | {ranks} ranks against 1: median | min | max | pairs |\n| --- | --- | --- | --- | --- |\n")
         for unknowns, med, lo, hi in summary:
