@@ -90,7 +90,8 @@ void SystemAssembler::refresh_held_blocks() {
 SystemAssembler::~SystemAssembler() {
   VecScatterDestroy(&to_local_);
   VecScatterDestroy(&to_root_);
-  for (Vec* v : {&global_template_, &u_loc_, &v_loc_, &a_loc_, &uc_loc_, &r_loc_, &root_seq_}) VecDestroy(v);
+  VecScatterDestroy(&to_all_);
+  for (Vec* v : {&global_template_, &u_loc_, &v_loc_, &a_loc_, &uc_loc_, &r_loc_, &root_seq_, &all_seq_}) VecDestroy(v);
 }
 
 void SystemAssembler::estimate_scales() {
@@ -561,42 +562,62 @@ PetscErrorCode SystemAssembler::constraint_values(Vec U, Vec V, double t, bool r
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode SystemAssembler::gather(double t, Vec U, Vec V, Vec A, Parametrization param, ModelState* state) {
+PetscErrorCode SystemAssembler::gather_scatter(bool everywhere, VecScatter* scatter, Vec* target) {
   PetscFunctionBeginUser;
-  std::vector<double> full[3];
-  const Vec in[3] = {U, V, A};
-  // U, V and A share one layout: one scatter to rank 0, made on first use.
-  if (!to_root_) PetscCall(VecScatterCreateToZero(global_template_, &to_root_, &root_seq_));
-  for (int k = 0; k < 3; ++k) {
-    if (!in[k]) continue;
-    PetscCall(VecScatterBegin(to_root_, in[k], root_seq_, INSERT_VALUES, SCATTER_FORWARD));
-    PetscCall(VecScatterEnd(to_root_, in[k], root_seq_, INSERT_VALUES, SCATTER_FORWARD));
-    if (dofs_.rank() == 0) {
-      const PetscScalar* x;
-      PetscInt n;
-      PetscCall(VecGetLocalSize(root_seq_, &n));
-      PetscCall(VecGetArrayRead(root_seq_, &x));
-      full[k].assign(x, x + n);
-      PetscCall(VecRestoreArrayRead(root_seq_, &x));
-    }
+  // U, V and A share one layout: one scatter each way, made on first use.
+  if (everywhere) {
+    if (!to_all_) PetscCall(VecScatterCreateToAll(global_template_, &to_all_, &all_seq_));
+    *scatter = to_all_;
+    *target = all_seq_;
+  } else {
+    if (!to_root_) PetscCall(VecScatterCreateToZero(global_template_, &to_root_, &root_seq_));
+    *scatter = to_root_;
+    *target = root_seq_;
   }
-  if (dofs_.rank() == 0 && state) state->set(t, full[0], full[1], full[2], param);
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode SystemAssembler::gather_in_model_order(Vec X, std::vector<double>* ordered) {
+PetscErrorCode SystemAssembler::gather(double t, Vec U, Vec V, Vec A, Parametrization param, ModelState* state,
+                                       bool everywhere) {
+  PetscFunctionBeginUser;
+  std::vector<double> full[3];
+  const Vec in[3] = {U, V, A};
+  VecScatter scatter;
+  Vec seq;
+  PetscCall(gather_scatter(everywhere, &scatter, &seq));
+  const bool here = everywhere || dofs_.rank() == 0;
+  for (int k = 0; k < 3; ++k) {
+    if (!in[k]) continue;
+    PetscCall(VecScatterBegin(scatter, in[k], seq, INSERT_VALUES, SCATTER_FORWARD));
+    PetscCall(VecScatterEnd(scatter, in[k], seq, INSERT_VALUES, SCATTER_FORWARD));
+    if (here) {
+      const PetscScalar* x;
+      PetscInt n;
+      PetscCall(VecGetLocalSize(seq, &n));
+      PetscCall(VecGetArrayRead(seq, &x));
+      full[k].assign(x, x + n);
+      PetscCall(VecRestoreArrayRead(seq, &x));
+    }
+  }
+  if (here && state) state->set(t, full[0], full[1], full[2], param);
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SystemAssembler::gather_in_model_order(Vec X, std::vector<double>* ordered, bool everywhere) {
   PetscFunctionBeginUser;
   ordered->clear();
-  if (!to_root_) PetscCall(VecScatterCreateToZero(global_template_, &to_root_, &root_seq_));
-  PetscCall(VecScatterBegin(to_root_, X, root_seq_, INSERT_VALUES, SCATTER_FORWARD));
-  PetscCall(VecScatterEnd(to_root_, X, root_seq_, INSERT_VALUES, SCATTER_FORWARD));
-  if (dofs_.rank() == 0) {
+  VecScatter scatter;
+  Vec seq;
+  PetscCall(gather_scatter(everywhere, &scatter, &seq));
+  PetscCall(VecScatterBegin(scatter, X, seq, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterEnd(scatter, X, seq, INSERT_VALUES, SCATTER_FORWARD));
+  if (everywhere || dofs_.rank() == 0) {
     const PetscScalar* x;
     PetscInt n;
-    PetscCall(VecGetLocalSize(root_seq_, &n));
-    PetscCall(VecGetArrayRead(root_seq_, &x));
+    PetscCall(VecGetLocalSize(seq, &n));
+    PetscCall(VecGetArrayRead(seq, &x));
     *ordered = dofs_.to_model_order(std::span<const double>(x, static_cast<std::size_t>(n)));
-    PetscCall(VecRestoreArrayRead(root_seq_, &x));
+    PetscCall(VecRestoreArrayRead(seq, &x));
   }
   PetscFunctionReturn(0);
 }

@@ -81,11 +81,14 @@ class SystemAssembler {
   /// constraint manifold (implicit Runge-Kutta route). Collective.
   PetscErrorCode constraint_values(Vec U, Vec V, double t, bool rates, Vec out);
 
-  /// Gathers the state to rank 0 and loads it into `state` there (other ranks: untouched).
-  PetscErrorCode gather(double t, Vec U, Vec V, Vec A, Parametrization param, ModelState* state);
+  /// Gathers the state to rank 0 and loads it into `state` there (other ranks: untouched), or
+  /// with `everywhere` to every rank (a results writer shared by the ranks). Collective.
+  PetscErrorCode gather(double t, Vec U, Vec V, Vec A, Parametrization param, ModelState* state,
+                        bool everywhere = false);
   /// Gathers X (a vector of the system's layout) to rank 0 in model order (DofMap::to_model_order),
-  /// the same on any number of ranks; other ranks get an empty vector. Collective.
-  PetscErrorCode gather_in_model_order(Vec X, std::vector<double>* ordered);
+  /// the same on any number of ranks; other ranks get an empty vector unless `everywhere`.
+  /// Collective.
+  PetscErrorCode gather_in_model_order(Vec X, std::vector<double>* ordered, bool everywhere = false);
 
   /// Typical diagonal mass and stiffness at the initial state, for scaling constraint rows.
   double characteristic_mass() const { return mass_scale_; }
@@ -128,6 +131,10 @@ class SystemAssembler {
   VecScatter to_local_ = nullptr;
   VecScatter to_root_ = nullptr;  // gather() to rank 0
   Vec root_seq_ = nullptr;
+  VecScatter to_all_ = nullptr;  // gather() to every rank
+  Vec all_seq_ = nullptr;
+  /// The scatter of gather() (made on first use) and its target.
+  PetscErrorCode gather_scatter(bool everywhere, VecScatter* scatter, Vec* target);
   bool have_v_ = false, have_a_ = false, separate_uc_ = false;
   // The terms read the rank's blocks and multipliers from here; its states and chain maps are set
   // per evaluation by compute_states.

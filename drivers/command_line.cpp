@@ -313,7 +313,7 @@ PetscErrorCode register_latticedyn_options(MPI_Comm comm) {
   PetscOptionsBegin(comm, nullptr, "latticedyn's own options", "latticedyn");
   PetscInt threads = 0, dense = GeneralizedAlphaIntegrator::kDenseBelow, rank = -1;
   PetscReal after = ProgressObserver::kDefaultAfter, interval = ProgressObserver::kDefaultInterval, slow = 0.0;
-  PetscBool blocks = PETSC_TRUE, predictor = PETSC_TRUE;
+  PetscBool blocks = PETSC_TRUE, predictor = PETSC_TRUE, collective = PETSC_TRUE;
   PetscCall(PetscOptionsInt("-assembly_threads", "threads evaluating elements per rank (default: OMP_NUM_THREADS on 1 rank, 1 on several)",
                             "latticedyn", threads, &threads, nullptr));
   PetscCall(PetscOptionsReal("-progress_after", "seconds of wall time before the progress line appears", "latticedyn",
@@ -326,6 +326,8 @@ PetscErrorCode register_latticedyn_options(MPI_Comm comm) {
                              "latticedyn", blocks, &blocks, nullptr));
   PetscCall(PetscOptionsBool("-dyn_predictor", "generalized-alpha: Newton starts from a Taylor guess", "latticedyn",
                              predictor, &predictor, nullptr));
+  PetscCall(PetscOptionsBool("-output_collective", "on several ranks: every rank writes its part of the results (MPI-IO); 0: rank 0 writes all",
+                             "latticedyn", collective, &collective, nullptr));
   PetscCall(PetscOptionsInt("-fault_injection_rank", "testing aid: an error on this rank at the first step", "latticedyn",
                             rank, &rank, nullptr));
   PetscCall(PetscOptionsReal("-fault_slow_steps", "testing aid: seconds of sleep after each step", "latticedyn", slow,

@@ -144,15 +144,16 @@ std::string load_checkpoint(const Simulation& sim, const std::string& restart, C
   return "";
 }
 
-// Creates the writer on rank 0; a failure there (e.g. an unwritable folder) is shared with all
-// ranks so that they stop together.
+// Creates the writer on rank 0, or with `collective` on every rank, which then write the .h5
+// together; a failure (e.g. an unwritable folder) is shared with all ranks so that they stop
+// together.
 std::unique_ptr<ResultWriter> open_writer(const Simulation& sim, const CommandOptions& opt, MPI_Comm comm,
                                           std::string* error,
                                           std::optional<ResultContinuation> continuation = std::nullopt,
-                                          const std::string& base_name = "") {
+                                          const std::string& base_name = "", bool collective = false) {
   std::unique_ptr<ResultWriter> writer;
   int ok = 1;
-  if (is_root(comm)) {
+  if (collective || is_root(comm)) {
     try {
       ResultWriterOptions o;
       o.directory = opt.output_directory.empty() ? sim.output.directory : opt.output_directory;
@@ -160,15 +161,27 @@ std::unique_ptr<ResultWriter> open_writer(const Simulation& sim, const CommandOp
       o.probe_joints = sim.output.probe_joints;
       o.body_blocks = sim.output.body_blocks;
       o.continuation = continuation;
-      writer = std::make_unique<ResultWriter>(sim.model, o);
+      if (collective) o.comm = comm;
+      writer = std::make_unique<ResultWriter>(sim.model, o);  // collective: fails on every rank alike
     } catch (const std::exception& e) {
       *error = e.what();
       ok = 0;
     }
   }
+  if (collective) return ok ? std::move(writer) : nullptr;
   MPI_Bcast(&ok, 1, MPI_INT, 0, comm);
   if (!ok && !is_root(comm)) *error = "the results could not be opened on rank 0";
   return writer;
+}
+
+// Whether a run on several ranks writes its results collectively (each rank its part, through
+// MPI-IO) instead of gathering them to rank 0: yes unless -output_collective 0.
+bool collective_output(MPI_Comm comm) {
+  int ranks = 1;
+  MPI_Comm_size(comm, &ranks);
+  PetscBool collective = PETSC_TRUE;
+  PetscCallAbort(comm, PetscOptionsGetBool(nullptr, nullptr, "-output_collective", &collective, nullptr));
+  return ranks > 1 && collective;
 }
 
 // Peak resident memory of the largest rank and of all ranks together (getrusage's high-water mark).
@@ -254,7 +267,7 @@ int command_solve(Simulation& sim, const CommandOptions& opt, MPI_Comm comm, boo
                stderr);
   }
   const auto opened = Clock::now();
-  auto writer = open_writer(sim, opt, comm, &error, continuation);
+  auto writer = open_writer(sim, opt, comm, &error, continuation, "", collective_output(comm));
   const double results = seconds_since(opened);
   if (!error.empty()) {
     error_root(comm, error);

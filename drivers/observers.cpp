@@ -15,6 +15,7 @@ OutputObserver::OutputObserver(SystemAssembler& sa, ResultWriter* writer, double
                                std::string integrator)
     : sa_(sa),
       writer_(writer),
+      everywhere_(writer && writer->collective()),
       state_(sa.model(), sa.dofs()),
       interval_(interval),
       t_end_(t_end),
@@ -28,7 +29,7 @@ const EnergyAccount* OutputObserver::energy_account() const {
 
 PetscErrorCode OutputObserver::record_energy(double t, Vec U, Vec V, Vec A, Parametrization param) {
   PetscFunctionBeginUser;
-  PetscCall(sa_.gather(t, U, V, A, param, &state_));
+  PetscCall(sa_.gather(t, U, V, A, param, &state_, everywhere_));
   if (sa_.dofs().rank() == 0 && (!ledger_->started() || t > ledger_->account().time)) {
     PetscCallCXX(ledger_->record(state_));
     if (writer_) writer_->set_energy_account(ledger_->account());
@@ -45,9 +46,9 @@ void OutputObserver::resume(const Checkpoint& c) {
 PetscErrorCode OutputObserver::write_checkpoint(const StepInfo& info) {
   Checkpoint c;
   PetscFunctionBeginUser;
-  PetscCall(sa_.gather_in_model_order(info.U, &c.coordinates));
-  PetscCall(sa_.gather_in_model_order(info.V, &c.velocities));
-  if (info.A) PetscCall(sa_.gather_in_model_order(info.A, &c.accelerations));
+  PetscCall(sa_.gather_in_model_order(info.U, &c.coordinates, everywhere_));
+  PetscCall(sa_.gather_in_model_order(info.V, &c.velocities, everywhere_));
+  if (info.A) PetscCall(sa_.gather_in_model_order(info.A, &c.accelerations, everywhere_));
   else c.accelerations.assign(c.coordinates.size(), 0.0);
   c.time = info.time;
   c.resume.step = info.step;
@@ -76,7 +77,7 @@ PetscErrorCode OutputObserver::write(double t, Vec U, Vec V, Vec A, Parametrizat
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(log_events().output, 0, 0, 0, 0));
   const auto start = std::chrono::steady_clock::now();
-  if (!gathered) PetscCall(sa_.gather(t, U, V, A, param, &state_));
+  if (!gathered) PetscCall(sa_.gather(t, U, V, A, param, &state_, everywhere_));
   if (writer_) PetscCallCXX(writer_->append(state_));
   seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   PetscCall(PetscLogEventEnd(log_events().output, 0, 0, 0, 0));

@@ -14,13 +14,14 @@
 
 namespace latticedyn {
 
-/// Gathers the state to rank 0 and appends it to the results every `interval` simulated
+/// Gathers the state to rank 0 (to every rank for a collective writer, which every rank then
+/// holds) and appends it to the results every `interval` simulated
 /// seconds (every step for 0), always including the first and the last state; writes a
 /// checkpoint where the integrator marks one (StepInfo::checkpoint). With a hydraulic circuit it
 /// keeps the run's energy account, recording every step (the works are integrals over the steps).
 class OutputObserver final : public StepObserver {
  public:
-  OutputObserver(SystemAssembler& sa, ResultWriter* writer_on_root, double interval, double t_end,
+  OutputObserver(SystemAssembler& sa, ResultWriter* writer, double interval, double t_end,
                  std::string integrator = "generalized_alpha");
   PetscErrorCode on_step(const StepInfo& info) override;
   /// Writes (t, U, V) unless it was the last state written.
@@ -47,6 +48,7 @@ class OutputObserver final : public StepObserver {
   PetscErrorCode write_checkpoint(const StepInfo& info);
   SystemAssembler& sa_;
   ResultWriter* writer_;
+  bool everywhere_ = false;  // the writer is collective: the state goes to every rank
   ModelState state_;
   std::optional<EnergyLedger> ledger_;
   double interval_, t_end_;

@@ -107,7 +107,13 @@ void write_dataset(hid_t parent, const std::string& name, const std::vector<hsiz
       what);
   hsize_t total = 1;
   for (hsize_t d : dims) total *= d;
-  if (total > 0) ctx.check(H5Dwrite(ds.get(), mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), what);
+  if (total == 0) return;
+  if (ctx.writes_whole) {
+    ctx.check(H5Dwrite(ds.get(), mem_type, H5S_ALL, H5S_ALL, ctx.transfer, data), what);
+  } else {  // another rank writes the whole dataset: this one takes part with nothing selected
+    ctx.check(H5Sselect_none(space.get()), what);
+    ctx.check(H5Dwrite(ds.get(), mem_type, space.get(), space.get(), ctx.transfer, data), what);
+  }
 }
 
 void write_ints(hid_t parent, const std::string& name, const std::vector<int>& v, const Hdf5Context& ctx,
@@ -131,7 +137,7 @@ Series::Series(hid_t parent, const std::string& name, std::vector<hsize_t> row, 
   const std::string what = "create dataset '" + name + "'";
   hsize_t size = 1;
   for (hsize_t d : row_) size *= d;
-  row_size_ = static_cast<int>(size);
+  set_part(0, row_.empty() ? 1 : row_[0]);
   std::vector<hsize_t> dims{0}, max_dims{H5S_UNLIMITED};
   std::vector<hsize_t> chunk{std::clamp<hsize_t>(kChunkBytes / (sizeof(double) * size), 1, kMaxChunkSteps)};
   for (hsize_t d : row_) {
@@ -163,9 +169,7 @@ Series Series::reopen(hid_t parent, const std::string& name, std::vector<hsize_t
   s.name_ = name;
   s.row_ = std::move(row);
   s.single_ = single;
-  hsize_t size = 1;
-  for (hsize_t d : s.row_) size *= d;
-  s.row_size_ = static_cast<int>(size);
+  s.set_part(0, s.row_.empty() ? 1 : s.row_[0]);
   s.ds_ = ctx.own(H5Dopen2(parent, name.c_str(), H5P_DEFAULT), H5Dclose, what);
   const Hid space = ctx.own(H5Dget_space(s.ds_.get()), H5Sclose, what);
   const int rank = H5Sget_simple_extent_ndims(space.get());
@@ -184,47 +188,70 @@ Series Series::reopen(hid_t parent, const std::string& name, std::vector<hsize_t
   return s;
 }
 
+void Series::set_part(hsize_t lo, hsize_t hi) {
+  const hsize_t n = row_.empty() ? 1 : row_[0];
+  if (lo > hi || hi > n)
+    throw std::invalid_argument("Series '" + name_ + "': part [" + std::to_string(lo) + ", " + std::to_string(hi) +
+                                ") outside its " + std::to_string(n) + " entries");
+  hsize_t inner = 1;
+  for (std::size_t d = 1; d < row_.size(); ++d) inner *= row_[d];
+  part_lo_ = lo;
+  part_hi_ = hi;
+  row_size_ = static_cast<int>((hi - lo) * inner);
+  whole_row_size_ = n * inner;
+}
+
 double* Series::append_row() {
   const std::size_t n = pending_.size();
   pending_.resize(n + static_cast<std::size_t>(row_size_));
+  ++pending_rows_;
   return pending_.data() + n;
 }
 
 void Series::append(const double* row) { std::copy(row, row + row_size_, append_row()); }
 
 void Series::discard_rows_after(std::size_t rows) {
-  pending_.resize(std::min(pending_.size(), rows * static_cast<std::size_t>(row_size_)));
+  pending_rows_ = std::min(pending_rows_, rows);
+  pending_.resize(pending_rows_ * static_cast<std::size_t>(row_size_));
 }
 
 void Series::write_pending(const Hdf5Context& ctx) {
-  const std::size_t entries = pending_.size();
-  const auto rows = static_cast<hsize_t>(entries / static_cast<std::size_t>(row_size_));
+  const auto rows = static_cast<hsize_t>(pending_rows_);
   if (rows == 0) return;
   const std::string what = "write steps " + std::to_string(written_) + ".." + std::to_string(written_ + rows - 1) +
                            " of '" + name_ + "'";
   std::vector<hsize_t> dims{written_ + rows}, start{written_}, count{rows};
-  for (hsize_t d : row_) {
-    dims.push_back(d);
-    start.push_back(0);
-    count.push_back(d);
+  for (std::size_t d = 0; d < row_.size(); ++d) {
+    dims.push_back(row_[d]);
+    start.push_back(d == 0 ? part_lo_ : 0);
+    count.push_back(d == 0 ? part_hi_ - part_lo_ : row_[d]);
   }
   const int rank = static_cast<int>(dims.size());
   ctx.check(H5Dset_extent(ds_.get(), dims.data()), what);
   const Hid file_space = ctx.own(H5Dget_space(ds_.get()), H5Sclose, what);
-  ctx.check(H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, start.data(), nullptr, count.data(), nullptr),
-            what);
-  const Hid mem_space = ctx.own(H5Screate_simple(rank, count.data(), nullptr), H5Sclose, what);
+  const bool none = row_size_ == 0;  // another rank writes this row: take part in the call only
+  if (none)
+    ctx.check(H5Sselect_none(file_space.get()), what);
+  else
+    ctx.check(H5Sselect_hyperslab(file_space.get(), H5S_SELECT_SET, start.data(), nullptr, count.data(), nullptr),
+              what);
+  const Hid mem_space =
+      none ? ctx.own(H5Scopy(file_space.get()), H5Sclose, what)
+           : ctx.own(H5Screate_simple(rank, count.data(), nullptr), H5Sclose, what);
+  static const double nothing = 0.0;
   if (single_) {
     pending_single_.assign(pending_.begin(), pending_.end());
-    ctx.check(H5Dwrite(ds_.get(), H5T_NATIVE_FLOAT, mem_space.get(), file_space.get(), H5P_DEFAULT,
-                       pending_single_.data()),
+    ctx.check(H5Dwrite(ds_.get(), H5T_NATIVE_FLOAT, mem_space.get(), file_space.get(), ctx.transfer,
+                       none ? static_cast<const void*>(&nothing) : pending_single_.data()),
               what);
   } else {
-    ctx.check(H5Dwrite(ds_.get(), H5T_NATIVE_DOUBLE, mem_space.get(), file_space.get(), H5P_DEFAULT, pending_.data()),
+    ctx.check(H5Dwrite(ds_.get(), H5T_NATIVE_DOUBLE, mem_space.get(), file_space.get(), ctx.transfer,
+                       none ? &nothing : pending_.data()),
               what);
   }
   written_ += rows;
   pending_.clear();
+  pending_rows_ = 0;
   pending_single_.clear();
 }
 

@@ -1,5 +1,5 @@
-// Thin RAII layer over the serial HDF5 C API for the results writer: owned identifiers, errors
-// turned into exceptions that carry HDF5's own messages, static datasets and growing time series.
+// Thin RAII layer over the HDF5 C API for the results writer: owned identifiers, errors turned
+// into exceptions that carry HDF5's own messages, static datasets and growing time series.
 #pragma once
 
 #include <hdf5.h>
@@ -53,6 +53,12 @@ std::string hdf5_error_stack();
 /// operation and HDF5's reason.
 struct Hdf5Context {
   std::filesystem::path file;
+  /// Dataset transfer list of every write: H5P_DEFAULT, or an MPI-IO one for a file that several
+  /// ranks write together (then every rank makes every call, in the same order).
+  hid_t transfer = H5P_DEFAULT;
+  /// Whether this process writes the datasets written whole (write_dataset): on a file written
+  /// collectively only one rank does, the others take part in the call with nothing selected.
+  bool writes_whole = true;
 
   [[noreturn]] void fail(const std::string& what) const;
   Hid own(hid_t id, Hid::Closer close, const std::string& what) const {
@@ -96,15 +102,24 @@ class Series {
          const Hdf5Context& ctx, bool single = false);
   /// The existing series `name` of an earlier run, cut back to its first `keep` entries, to be
   /// extended from there (a run continued from a checkpoint). Fails if its rows are not `row`
-  /// or it holds fewer entries.
+  /// or it holds fewer entries. Cutting back leaves the last kept chunk in HDF5's chunk cache:
+  /// flush the file before several ranks write past the cache (MPI-IO), or it would later
+  /// overwrite their entries.
   static Series reopen(hid_t parent, const std::string& name, std::vector<hsize_t> row, hsize_t keep,
                        const Hdf5Context& ctx, bool single = false);
 
+  /// This process's part of a row, written from now on: entries [lo, hi) along the row's first
+  /// dimension (a row without dimensions: all of it for [0, 1), none for [0, 0)). Several ranks
+  /// writing one file collectively each take their part; by default a process writes whole rows.
+  void set_part(hsize_t lo, hsize_t hi);
+  /// Doubles of this process's part of a row (what append_row() gives room for).
   int row_size() const { return row_size_; }
+  /// Doubles of a whole row, whoever writes them.
+  hsize_t whole_row_size() const { return whole_row_size_; }
   /// Bytes of the entries kept in memory until write_pending().
   std::size_t pending_bytes() const { return pending_.size() * sizeof(double); }
   /// Entries kept in memory until write_pending().
-  std::size_t pending_rows() const { return pending_.size() / static_cast<std::size_t>(row_size_); }
+  std::size_t pending_rows() const { return pending_rows_; }
   /// Room for `rows` entries kept between writes, allocated once (growing by doubling touches
   /// twice the memory, every new page a fault).
   void reserve_rows(std::size_t rows) { pending_.reserve(rows * static_cast<std::size_t>(row_size_)); }
@@ -124,7 +139,10 @@ class Series {
   Series() = default;
   std::string name_;
   std::vector<hsize_t> row_;
-  int row_size_ = 0;
+  hsize_t part_lo_ = 0, part_hi_ = 0;  // this process's entries along row_[0] (or 0/1 without dimensions)
+  int row_size_ = 0;            // doubles of this process's part of a row
+  hsize_t whole_row_size_ = 0;  // doubles of a whole row
+  std::size_t pending_rows_ = 0;
   hsize_t written_ = 0;         // entries in the file
   // A vector whose resize leaves new doubles uninitialised: rows are written once, by their filler.
   template <class T>

@@ -57,17 +57,33 @@ void copy3(const Vec3& v, double* out) { std::copy(v.data(), v.data() + 3, out);
 }  // namespace
 
 struct ResultWriter::Impl {
-  /// One time series and how to fill its row for the current step.
+  /// Which part of a row each rank writes when several write the file together: all of it on
+  /// rank 0, an even share of its entries, or the entries of the rank's elements, their drawn
+  /// cells or their drawn points (the last rank also the rigid bodies' cells and points).
+  enum class Split { root, even, elements, cells, points };
+  /// Fills entries [lo, hi) of a row (along its first dimension) into `out`.
+  using Fill = std::function<void(const ModelState&, double* out, hsize_t lo, hsize_t hi)>;
+  /// One time series and how to fill this rank's part of its row for the current step.
   struct Output {
     io::Series series;
-    std::function<void(const ModelState&, double*)> fill;
+    Fill fill;
+    Split split = Split::root;
+    hsize_t entries = 1;     // along the row's first dimension (1 for a row without dimensions)
+    hsize_t lo = 0, hi = 0;  // this rank's part of them (set_parts)
   };
 
   const Model& model;
   ResultWriterOptions opts;
+  int rank = 0, ranks = 1;  // in opts.comm; several ranks write the .h5 collectively
+  bool collective() const { return ranks > 1; }
+  bool root() const { return rank == 0; }
   fs::path h5, xdmf, csv;
   io::Hdf5Context ctx;
+  Hid transfer;  // MPI-IO transfer list (a writer of several ranks only)
   Hid file;
+  // The elements whose results this rank evaluates and writes: [element_begin, element_end), with
+  // their drawn cells and points (set at the first append).
+  int element_begin = 0, element_end = 0, cell_begin = 0, cell_end = 0, point_begin = 0, point_end = 0;
   std::vector<int> translation, rotation, scalar, vectors;  // model block indices by kind
   std::vector<Output> outputs;                     // declared after `file`: closed before it
   int steps = 0;                                   // completed appends
@@ -104,8 +120,14 @@ struct ResultWriter::Impl {
   void create_series();
   void create_viz();
   void create_state(hsize_t size);
+  /// Evaluates this rank's part of a step's results (all of them on a serial writer).
   void compute_step(const ModelState& state);
-  void write_pending();
+  /// Sums the element energies over the ranks of a collective writer.
+  void combine_energy();
+  /// Writes the kept rows (and with `and_flush` flushes the .h5); collective.
+  void write_pending(bool and_flush = false);
+  /// Bytes of one whole step of every series (the same on every rank).
+  std::size_t whole_step_bytes() const;
   /// Writes the kept rows and flushes the .h5 and the CSV, then rewrites the XDMF if due (always
   /// when `final`).
   void flush(bool final = false);
@@ -129,12 +151,25 @@ struct ResultWriter::Impl {
   }
   void write_probe_header();
   void write_probe_row(const ModelState& state);
-  void add(hid_t group, const std::string& name, std::vector<hsize_t> row, const char* units,
-           std::function<void(const ModelState&, double*)> fill, bool single = false);
+  void add(hid_t group, const std::string& name, std::vector<hsize_t> row, const char* units, Split split, Fill fill,
+           bool single = false);
+  /// Opens the .h5 on every rank of a collective writer (rank 0 has created it).
+  void open_collective();
+  /// Runs `work` on rank 0 (every rank of a serial writer is rank 0); a failure there is thrown on
+  /// every rank, with rank 0's message.
+  void on_root(const std::function<void()>& work);
+  /// Throws on every rank when any failed (`error` non-empty), with the first failed rank's message.
+  void agree(const std::string& error) const;
+  /// Splits the elements among the ranks (first append, before anything is evaluated).
+  void split_elements();
+  /// Sets every series' part (first append, after every series exists).
+  void set_parts();
   Hid group(hid_t parent, const std::string& name) const {
     return continuing ? io::open_group(parent, name, ctx) : io::create_group(parent, name, ctx);
   }
   void open_existing();
+  /// Rank 0's part of open_existing: checks and cuts back the file (left open on a serial writer).
+  void check_existing();
   std::vector<std::string> constraint_names() const {
     std::vector<std::string> names;
     for (const Constraint& c : model.constraints) names.push_back(c.name);
@@ -150,9 +185,12 @@ struct ResultWriter::Impl {
     return m < members.size() ? &members[m] : nullptr;
   }
   /// Fills a per-cell dataset with one number of each cell's member (NaN without one).
-  std::function<void(const ModelState&, double*)> per_cell(double (*of)(const MemberStress&)) const {
-    return [this, of](const ModelState&, double* out) {
-      for (const MemberStress* m : cell_members) *out++ = m ? of(*m) : std::numeric_limits<double>::quiet_NaN();
+  Fill per_cell(double (*of)(const MemberStress&)) const {
+    return [this, of](const ModelState&, double* out, hsize_t lo, hsize_t hi) {
+      for (hsize_t c = lo; c < hi; ++c) {
+        const MemberStress* m = cell_members[c];
+        *out++ = m ? of(*m) : std::numeric_limits<double>::quiet_NaN();
+      }
     };
   }
   void track_peak(double time);
@@ -171,6 +209,12 @@ std::optional<std::string> base_name_problem(const std::string& name) {
 }
 
 ResultWriter::Impl::Impl(const Model& m, ResultWriterOptions o) : model(m), opts(std::move(o)) {
+  int mpi = 0;
+  MPI_Initialized(&mpi);
+  if (mpi) {
+    MPI_Comm_rank(opts.comm, &rank);
+    MPI_Comm_size(opts.comm, &ranks);
+  }
   if (auto why = base_name_problem(opts.base_name))
     throw std::invalid_argument("ResultWriter: base name '" + opts.base_name + "': " + *why);
   for (int j : opts.probe_joints)
@@ -192,13 +236,15 @@ ResultWriter::Impl::Impl(const Model& m, ResultWriterOptions o) : model(m), opts
   csv = dir / (opts.base_name + "_probes.csv");
   ctx.file = h5;
 
-  std::error_code ec;
-  fs::create_directories(dir, ec);
-  if (ec) throw std::runtime_error("ResultWriter: cannot create directory '" + dir.string() + "': " + ec.message());
-  // Written without following symbolic links: a link at a result's name is replaced by the new
-  // file, its target left alone.
-  for (const fs::path& p : {h5, xdmf, csv})
-    if (fs::is_symlink(fs::symlink_status(p, ec))) fs::remove(p, ec);
+  on_root([&] {
+    std::error_code ec;
+    fs::create_directories(dir, ec);
+    if (ec) throw std::runtime_error("ResultWriter: cannot create directory '" + dir.string() + "': " + ec.message());
+    // Written without following symbolic links: a link at a result's name is replaced by the new
+    // file, its target left alone.
+    for (const fs::path& p : {h5, xdmf, csv})
+      if (fs::is_symlink(fs::symlink_status(p, ec))) fs::remove(p, ec);
+  });
 
   for (int b = 0; b < static_cast<int>(model.blocks.size()); ++b) {
     switch (model.blocks[b].kind) {
@@ -214,17 +260,67 @@ ResultWriter::Impl::Impl(const Model& m, ResultWriterOptions o) : model(m), opts
     open_existing();
     return;
   }
-  // A stale XDMF of an earlier run in this folder would point into the .h5 about to be truncated.
-  fs::remove(xdmf, ec);
-  if (ec) throw std::runtime_error("ResultWriter: cannot remove '" + xdmf.string() + "': " + ec.message());
-
   const io::QuietHdf5Errors quiet;
-  // Serial HDF5 with default property lists: only the rank holding the gathered state writes.
-  file = ctx.own(H5Fcreate(h5.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose, "create the file");
-  write_model();
+  on_root([&] {
+    // A stale XDMF of an earlier run in this folder would point into the .h5 about to be truncated.
+    std::error_code ec;
+    fs::remove(xdmf, ec);
+    if (ec) throw std::runtime_error("ResultWriter: cannot remove '" + xdmf.string() + "': " + ec.message());
+    file = ctx.own(H5Fcreate(h5.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose, "create the file");
+    // The static description holds strings of variable length, which parallel HDF5 cannot write
+    // (1.10): rank 0 writes it alone before the ranks open the file together.
+    write_model();
+    if (collective()) ctx.check(file.reset(), "close the file");
+    write_probe_header();
+  });
+  if (collective()) open_collective();
   create_series();
   ctx.check(H5Fflush(file.get(), H5F_SCOPE_GLOBAL), "flush the file");
-  write_probe_header();
+}
+
+void ResultWriter::Impl::on_root(const std::function<void()>& work) {
+  std::string error;
+  if (root()) {
+    try {
+      work();
+    } catch (const std::exception& e) {
+      if (!collective()) throw;
+      error = e.what();
+      if (error.empty()) error = "ResultWriter: failed on rank 0";
+    }
+  }
+  agree(error);
+}
+
+void ResultWriter::Impl::agree(const std::string& error) const {
+  if (!collective()) {
+    if (!error.empty()) throw std::runtime_error(error);
+    return;
+  }
+  int first = error.empty() ? ranks : rank;
+  MPI_Allreduce(MPI_IN_PLACE, &first, 1, MPI_INT, MPI_MIN, opts.comm);
+  if (first == ranks) return;
+  int size = static_cast<int>(error.size());
+  MPI_Bcast(&size, 1, MPI_INT, first, opts.comm);
+  std::string message = error;
+  message.resize(static_cast<std::size_t>(size));
+  MPI_Bcast(message.data(), size, MPI_CHAR, first, opts.comm);
+  throw std::runtime_error(first == rank || first == 0 ? message : message + " (on rank " + std::to_string(first) + ")");
+}
+
+void ResultWriter::Impl::open_collective() {
+  const std::string what = "open the file on " + std::to_string(ranks) + " ranks (MPI-IO)";
+  const Hid fapl = ctx.own(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, what);
+  ctx.check(H5Pset_fapl_mpio(fapl.get(), opts.comm, MPI_INFO_NULL), what);
+  file = ctx.own(H5Fopen(h5.c_str(), H5F_ACC_RDWR, fapl.get()), H5Fclose, what);
+  // Independent transfers: a rank's part of a row is one contiguous run of the file (chunks are
+  // whole rows, or several rows of a small series), so each rank writes its own directly; a
+  // collective transfer would first shuffle the parts to aggregating ranks (measured no faster).
+  // Metadata operations (creating and extending datasets, flushing) stay collective.
+  transfer = ctx.own(H5Pcreate(H5P_DATASET_XFER), H5Pclose, what);
+  ctx.check(H5Pset_dxpl_mpio(transfer.get(), H5FD_MPIO_INDEPENDENT), what);
+  ctx.transfer = transfer.get();
+  ctx.writes_whole = root();
 }
 
 // The files of the run being continued, cut back to the checkpoint: every series to its first
@@ -232,9 +328,21 @@ ResultWriter::Impl::Impl(const Model& m, ResultWriterOptions o) : model(m), opts
 // checkpoints removed, the CSV to its header and `steps` rows; the XDMF follows at the next flush.
 void ResultWriter::Impl::open_existing() {
   const ResultContinuation& c = *opts.continuation;
+  const io::QuietHdf5Errors quiet;
+  // Rank 0 checks the file, reads the kept steps' times and removes later checkpoints; then the
+  // ranks of a collective writer open it together.
+  on_root([&] { check_existing(); });
+  if (collective()) open_collective();
+  create_series();
+  steps = static_cast<int>(c.steps);
+  ctx.check(H5Fflush(file.get(), H5F_SCOPE_GLOBAL), "flush the file");
+  on_root([&] { continue_probes(); });
+}
+
+void ResultWriter::Impl::check_existing() {
+  const ResultContinuation& c = *opts.continuation;
   std::error_code ec;
   if (!fs::is_regular_file(h5, ec)) throw std::runtime_error("ResultWriter: cannot continue '" + h5.string() + "': no such file");
-  const io::QuietHdf5Errors quiet;
   file = ctx.own(H5Fopen(h5.c_str(), H5F_ACC_RDWR, H5P_DEFAULT), H5Fclose, "open the file to continue it");
   // Only a file of this format can be extended: the rows of its series are this format's.
   int version = 0;
@@ -260,12 +368,9 @@ void ResultWriter::Impl::open_existing() {
     kept_times.assign(all.begin(), all.begin() + static_cast<std::ptrdiff_t>(keep));
   }
   remove_checkpoints_after(file.get(), c.time, ctx);
+  if (collective()) ctx.check(file.reset(), "close the file");
   // The XDMF names steps about to be dropped: written anew with the first append.
   fs::remove(xdmf, ec);
-  create_series();
-  steps = static_cast<int>(keep);
-  ctx.check(H5Fflush(file.get(), H5F_SCOPE_GLOBAL), "flush the file");
-  continue_probes();
 }
 
 // The probe CSV cut back to its header and the kept rows, then appended to.
@@ -375,18 +480,82 @@ void ResultWriter::Impl::write_model() {
   io::write_ints(m, "load_joint", load_joint, ctx);
   io::write_ints(m, "probe_joints", opts.probe_joints, ctx);
   io::write_strings(m, "drive_names", model.drive_names, ctx);
+
+  // The hydraulic series' column names (strings: written here, with the static part).
+  if (flow_columns.empty() && !ledger) return;
+  const Hid h = io::create_group(root, "hydraulics", ctx);
+  if (!flow_columns.empty()) {
+    std::vector<std::string> labels;
+    for (const FlowColumn& f : flow_columns) labels.push_back(f.label);
+    io::write_strings(h.get(), "flow_names", labels, ctx);
+  }
+  if (ledger)
+    io::write_strings(h.get(), "energy_columns",
+                      {"supplied", "dissipated", "compression", "mechanical_change", "fluid_change", "imbalance"}, ctx);
 }
 
 void ResultWriter::Impl::add(hid_t group, const std::string& name, std::vector<hsize_t> row, const char* units,
-                             std::function<void(const ModelState&, double*)> fill, bool single) {
+                             Split split, Fill fill, bool single) {
   for (hsize_t d : row)
     if (d == 0) return;  // nothing to record, and HDF5 rejects zero chunk dimensions
+  const hsize_t n = row.empty() ? 1 : row[0];
   if (continuing)
     outputs.push_back({io::Series::reopen(group, name, std::move(row), static_cast<hsize_t>(opts.continuation->steps),
                                           ctx, single),
-                       std::move(fill)});
+                       std::move(fill), split, n, 0, n});
   else
-    outputs.push_back({io::Series(group, name, std::move(row), units, ctx, single), std::move(fill)});
+    outputs.push_back({io::Series(group, name, std::move(row), units, ctx, single), std::move(fill), split, n, 0, n});
+}
+
+void ResultWriter::Impl::split_elements() {
+  const int ne = static_cast<int>(model.elements.size());
+  element_begin = 0;
+  element_end = ne;
+  cell_begin = point_begin = 0;
+  cell_end = viz->num_cells();
+  point_end = viz->num_points();
+  if (collective()) {
+    // Contiguous runs of elements of about equal work: an element's evaluation, and its members'
+    // stresses and section forces once per drawn cell.
+    std::vector<long> weight_before(static_cast<std::size_t>(ne) + 1, 0);
+    std::vector<long> cells(static_cast<std::size_t>(ne), 0);
+    for (const int e : viz->cell_element())
+      if (e >= 0) ++cells[static_cast<std::size_t>(e)];
+    for (int e = 0; e < ne; ++e) weight_before[e + 1] = weight_before[e] + 1 + cells[e];
+    auto first_element = [&](int r) {
+      const long target = weight_before.back() * r / ranks;
+      return static_cast<int>(std::lower_bound(weight_before.begin(), weight_before.end(), target) - weight_before.begin());
+    };
+    element_begin = std::min(first_element(rank), ne);
+    element_end = rank + 1 == ranks ? ne : std::min(first_element(rank + 1), ne);
+    // The last rank also draws the rigid bodies, whose cells and points follow the elements'.
+    cell_begin = viz->first_cell_of(element_begin);
+    point_begin = viz->first_point_of(element_begin);
+    if (rank + 1 < ranks) {
+      cell_end = viz->first_cell_of(element_end);
+      point_end = viz->first_point_of(element_end);
+    }
+  }
+}
+
+void ResultWriter::Impl::set_parts() {
+  for (Output& o : outputs) {
+    const hsize_t n = o.entries;
+    hsize_t lo = 0, hi = n;
+    switch (o.split) {
+      case Split::root: hi = root() ? n : 0; break;
+      case Split::even:
+        lo = n * static_cast<hsize_t>(rank) / static_cast<hsize_t>(ranks);
+        hi = n * static_cast<hsize_t>(rank + 1) / static_cast<hsize_t>(ranks);
+        break;
+      case Split::elements: lo = static_cast<hsize_t>(element_begin); hi = static_cast<hsize_t>(element_end); break;
+      case Split::cells: lo = static_cast<hsize_t>(cell_begin); hi = static_cast<hsize_t>(cell_end); break;
+      case Split::points: lo = static_cast<hsize_t>(point_begin); hi = static_cast<hsize_t>(point_end); break;
+    }
+    o.lo = lo;
+    o.hi = hi;
+    o.series.set_part(lo, hi);
+  }
 }
 
 void ResultWriter::Impl::create_series() {
@@ -395,109 +564,102 @@ void ResultWriter::Impl::create_series() {
   const hsize_t nj = model.joints.size(), ne = model.elements.size(), nc = model.constraints.size();
   const auto nm = static_cast<hsize_t>(model.num_multipliers());
 
-  add(root, "time", {}, "s", [](const ModelState& s, double* out) { out[0] = s.time(); });
+  add(root, "time", {}, "s", Split::root, [](const ModelState& s, double* out, hsize_t, hsize_t) { out[0] = s.time(); });
 
+  // Per block kind, entries [lo, hi) of its list of blocks.
+  auto per_block = [](const std::vector<int>& list, void (*put)(const BlockState&, double*&)) -> Fill {
+    return [&list, put](const ModelState& s, double* out, hsize_t lo, hsize_t hi) {
+      for (hsize_t k = lo; k < hi; ++k) put(s.block(list[k]), out);
+    };
+  };
   const Hid blocks = group(root, "blocks");
   const hid_t b = blocks.get();
-  add(b, "position", {nt, 3}, "m", [this](const ModelState& s, double* out) {
-    for (int i : translation) copy3(s.block(i).pos, std::exchange(out, out + 3));
-  });
-  add(b, "velocity", {nt, 3}, "m/s", [this](const ModelState& s, double* out) {
-    for (int i : translation) copy3(s.block(i).vel, std::exchange(out, out + 3));
-  });
-  add(b, "rotation_vector", {nr, 3}, "rad", [this](const ModelState& s, double* out) {
-    for (int i : rotation) copy3(rotation_vector(s.block(i).rot), std::exchange(out, out + 3));
-  });
-  add(b, "rotation_matrix", {nr, 3, 3}, "1", [this](const ModelState& s, double* out) {
-    for (int i : rotation)
-      for (int r = 0; r < 3; ++r)
-        for (int c = 0; c < 3; ++c) *out++ = s.block(i).rot(r, c);
-  });
-  add(b, "angular_velocity", {nr, 3}, "rad/s", [this](const ModelState& s, double* out) {
-    for (int i : rotation) copy3(s.block(i).vel, std::exchange(out, out + 3));
-  });
-  add(b, "scalar_position", {ns}, "model units", [this](const ModelState& s, double* out) {
-    for (int i : scalar) *out++ = s.block(i).pos(0);
-  });
-  add(b, "scalar_velocity", {ns}, "model units/s", [this](const ModelState& s, double* out) {
-    for (int i : scalar) *out++ = s.block(i).vel(0);
-  });
+  add(b, "position", {nt, 3}, "m", Split::even,
+      per_block(translation, [](const BlockState& x, double*& out) { copy3(x.pos, std::exchange(out, out + 3)); }));
+  add(b, "velocity", {nt, 3}, "m/s", Split::even,
+      per_block(translation, [](const BlockState& x, double*& out) { copy3(x.vel, std::exchange(out, out + 3)); }));
+  add(b, "rotation_vector", {nr, 3}, "rad", Split::even, per_block(rotation, [](const BlockState& x, double*& out) {
+        copy3(rotation_vector(x.rot), std::exchange(out, out + 3));
+      }));
+  add(b, "rotation_matrix", {nr, 3, 3}, "1", Split::even, per_block(rotation, [](const BlockState& x, double*& out) {
+        for (int r = 0; r < 3; ++r)
+          for (int c = 0; c < 3; ++c) *out++ = x.rot(r, c);
+      }));
+  add(b, "angular_velocity", {nr, 3}, "rad/s", Split::even,
+      per_block(rotation, [](const BlockState& x, double*& out) { copy3(x.vel, std::exchange(out, out + 3)); }));
+  add(b, "scalar_position", {ns}, "model units", Split::even,
+      per_block(scalar, [](const BlockState& x, double*& out) { *out++ = x.pos(0); }));
+  add(b, "scalar_velocity", {ns}, "model units/s", Split::even,
+      per_block(scalar, [](const BlockState& x, double*& out) { *out++ = x.vel(0); }));
   // Free vectors, e.g. the slopes r' of ropes (absolute nodal coordinates).
-  add(b, "vector", {nv, 3}, "model units", [this](const ModelState& s, double* out) {
-    for (int i : vectors) copy3(s.block(i).pos, std::exchange(out, out + 3));
-  });
+  add(b, "vector", {nv, 3}, "model units", Split::even,
+      per_block(vectors, [](const BlockState& x, double*& out) { copy3(x.pos, std::exchange(out, out + 3)); }));
 
   const Hid joints = group(root, "joints");
-  add(joints.get(), "position", {nj, 3}, "m", [nj](const ModelState& s, double* out) {
-    for (hsize_t j = 0; j < nj; ++j) copy3(s.joint_position(static_cast<int>(j)), out + 3 * j);
+  add(joints.get(), "position", {nj, 3}, "m", Split::even, [](const ModelState& s, double* out, hsize_t lo, hsize_t hi) {
+    for (hsize_t j = lo; j < hi; ++j) copy3(s.joint_position(static_cast<int>(j)), out + 3 * (j - lo));
   });
-  add(joints.get(), "velocity", {nj, 3}, "m/s", [nj](const ModelState& s, double* out) {
-    for (hsize_t j = 0; j < nj; ++j) copy3(s.joint_velocity(static_cast<int>(j)), out + 3 * j);
+  add(joints.get(), "velocity", {nj, 3}, "m/s", Split::even, [](const ModelState& s, double* out, hsize_t lo, hsize_t hi) {
+    for (hsize_t j = lo; j < hi; ++j) copy3(s.joint_velocity(static_cast<int>(j)), out + 3 * (j - lo));
   });
 
   const Hid constraints = group(root, "constraints");
-  add(constraints.get(), "multipliers", {nm}, "N (length rows), N*m (angle rows)",
-      [nc](const ModelState& s, double* out) {
+  add(constraints.get(), "multipliers", {nm}, "N (length rows), N*m (angle rows)", Split::root,
+      [nc](const ModelState& s, double* out, hsize_t, hsize_t) {
         for (hsize_t c = 0; c < nc; ++c) {
           const Eigen::VectorXd l = s.multipliers(static_cast<int>(c));
           out = std::copy(l.data(), l.data() + l.size(), out);
         }
       });
-  add(constraints.get(), "violation", {nc}, "m (length rows), 1 (angle rows)", [nc](const ModelState& s, double* out) {
-    for (hsize_t c = 0; c < nc; ++c) out[c] = s.constraint_values(static_cast<int>(c)).cwiseAbs().maxCoeff();
-  });
+  add(constraints.get(), "violation", {nc}, "m (length rows), 1 (angle rows)", Split::even,
+      [](const ModelState& s, double* out, hsize_t lo, hsize_t hi) {
+        for (hsize_t c = lo; c < hi; ++c) *out++ = s.constraint_values(static_cast<int>(c)).cwiseAbs().maxCoeff();
+      });
   // The reactions in physical terms, so no reader has to rebuild G to interpret the multipliers.
-  add(constraints.get(), "position", {nc, 3}, "m", [this](const ModelState&, double* out) {
-    for (const ConstraintReaction& r : reactions) copy3(r.point, std::exchange(out, out + 3));
-  });
-  add(constraints.get(), "reaction_force", {nc, 3}, "N", [this](const ModelState&, double* out) {
-    for (const ConstraintReaction& r : reactions) copy3(r.force, std::exchange(out, out + 3));
-  });
-  add(constraints.get(), "reaction_moment", {nc, 3}, "N*m", [this](const ModelState&, double* out) {
-    for (const ConstraintReaction& r : reactions) copy3(r.moment, std::exchange(out, out + 3));
-  });
+  auto per_reaction = [this](Vec3 ConstraintReaction::*of) -> Fill {
+    return [this, of](const ModelState&, double* out, hsize_t lo, hsize_t hi) {
+      for (hsize_t c = lo; c < hi; ++c) copy3(reactions[c].*of, out + 3 * (c - lo));
+    };
+  };
+  add(constraints.get(), "position", {nc, 3}, "m", Split::even, per_reaction(&ConstraintReaction::point));
+  add(constraints.get(), "reaction_force", {nc, 3}, "N", Split::even, per_reaction(&ConstraintReaction::force));
+  add(constraints.get(), "reaction_moment", {nc, 3}, "N*m", Split::even, per_reaction(&ConstraintReaction::moment));
 
   const Hid elements = group(root, "elements");
-  add(elements.get(), "axial_force", {ne}, "N",
-      [this](const ModelState&, double* out) { std::copy(axial.begin(), axial.end(), out); });
+  add(elements.get(), "axial_force", {ne}, "N", Split::elements, [this](const ModelState&, double* out, hsize_t lo, hsize_t hi) {
+    std::copy(axial.begin() + static_cast<std::ptrdiff_t>(lo), axial.begin() + static_cast<std::ptrdiff_t>(hi), out);
+  });
 
   const Hid drives = group(root, "drives");
   const hsize_t nd = model.drives.size();
-  add(drives.get(), "value", {nd}, "model units (m, rad, 1)", [this, nd](const ModelState& s, double* out) {
-    for (hsize_t d = 0; d < nd; ++d) out[d] = model.drives[d].evaluate(s.time()).value;
-  });
+  add(drives.get(), "value", {nd}, "model units (m, rad, 1)", Split::root,
+      [this, nd](const ModelState& s, double* out, hsize_t, hsize_t) {
+        for (hsize_t d = 0; d < nd; ++d) out[d] = model.drives[d].evaluate(s.time()).value;
+      });
 
-  add(root, "energy", {3}, "J", [this](const ModelState&, double* out) {
+  add(root, "energy", {3}, "J", Split::root, [this](const ModelState&, double* out, hsize_t, hsize_t) {
     out[0] = energy.kinetic;
     out[1] = energy.gravity_potential;
     out[2] = energy.strain;
   });
-  add(root, "energy_total", {}, "J", [this](const ModelState&, double* out) {
+  add(root, "energy_total", {}, "J", Split::root, [this](const ModelState&, double* out, hsize_t, hsize_t) {
     out[0] = energy.kinetic + energy.gravity_potential + energy.strain + energy.fluid;
   });
   if (!pressure_blocks().empty())
-    add(root, "energy_fluid", {}, "J", [this](const ModelState&, double* out) { out[0] = energy.fluid; });
+    add(root, "energy_fluid", {}, "J", Split::root,
+        [this](const ModelState&, double* out, hsize_t, hsize_t) { out[0] = energy.fluid; });
   if (flow_columns.empty() && !ledger) return;
-  const Hid h = group(root, "hydraulics");
-  if (!flow_columns.empty()) {
-    if (!continuing) {
-      std::vector<std::string> labels;
-      for (const FlowColumn& f : flow_columns) labels.push_back(f.label);
-      io::write_strings(h.get(), "flow_names", labels, ctx);
-    }
-    add(h.get(), "flow", {flow_columns.size()}, "m^3/s", [this](const ModelState&, double* out) {
-      std::copy(flow_values.begin(), flow_values.end(), out);
-    });
-  }
-  if (ledger) {
-    if (!continuing)
-      io::write_strings(h.get(), "energy_columns",
-                        {"supplied", "dissipated", "compression", "mechanical_change", "fluid_change", "imbalance"}, ctx);
-    add(h.get(), "energy", {6}, "J (works since the run's start, EnergyLedger)", [this](const ModelState&, double* out) {
-      const auto row = account_row();
-      std::copy(row.begin(), row.end(), out);
-    });
-  }
+  const Hid h = io::open_group(root, "hydraulics", ctx);  // write_model made it
+  // The flows and the energy account are evaluated on rank 0 (small hydraulic models).
+  if (!flow_columns.empty())
+    add(h.get(), "flow", {flow_columns.size()}, "m^3/s", Split::root,
+        [this](const ModelState&, double* out, hsize_t, hsize_t) { std::copy(flow_values.begin(), flow_values.end(), out); });
+  if (ledger)
+    add(h.get(), "energy", {6}, "J (works since the run's start, EnergyLedger)", Split::root,
+        [this](const ModelState&, double* out, hsize_t, hsize_t) {
+          const auto row = account_row();
+          std::copy(row.begin(), row.end(), out);
+        });
 }
 
 // The solvers' whole coordinate vector in model order (the same on any number of ranks), so a
@@ -505,9 +667,9 @@ void ResultWriter::Impl::create_series() {
 void ResultWriter::Impl::create_state(hsize_t size) {
   const Hid g = group(file.get(), "state");
   add(g.get(), "coordinates", {size}, "coordinate vector in model order (m, rad, model units, multipliers)",
-      [](const ModelState& s, double* out) {
+      Split::even, [](const ModelState& s, double* out, hsize_t lo, hsize_t hi) {
         const std::vector<double> q = s.coordinates_in_model_order();
-        std::copy(q.begin(), q.end(), out);
+        std::copy(q.begin() + static_cast<std::ptrdiff_t>(lo), q.begin() + static_cast<std::ptrdiff_t>(hi), out);
       });
 }
 
@@ -532,25 +694,29 @@ void ResultWriter::Impl::create_viz() {
   }
   // Drawing coordinates in single precision (7 digits: 5 um on a 50 m crane), half the bytes of
   // the largest dataset; every physical quantity stays double.
-  add(g.get(), "points", {np, 3}, "m",
-      [this](const ModelState&, double* out) { std::copy(points.begin(), points.end(), out); }, true);
-  add(g.get(), "axial_force", {nl}, "N", [this](const ModelState&, double* out) {
+  add(g.get(), "points", {np, 3}, "m", Split::points,
+      [this](const ModelState&, double* out, hsize_t lo, hsize_t hi) {
+        std::copy(points.begin() + static_cast<std::ptrdiff_t>(3 * lo), points.begin() + static_cast<std::ptrdiff_t>(3 * hi), out);
+      },
+      true);
+  add(g.get(), "axial_force", {nl}, "N", Split::cells, [this](const ModelState&, double* out, hsize_t lo, hsize_t hi) {
     const auto& element = viz->cell_element();
     const auto& polyline = viz->cell_polyline();
-    for (std::size_t l = 0; l < element.size(); ++l) {
+    for (hsize_t l = lo; l < hi; ++l) {
       const int e = element[l];
       if (e < 0)
-        out[l] = 0.0;
+        *out++ = 0.0;
       else if (!element_out[e].polyline_axial_forces.empty())
-        out[l] = element_out[e].polyline_axial_forces.at(static_cast<std::size_t>(polyline[l]));
+        *out++ = element_out[e].polyline_axial_forces.at(static_cast<std::size_t>(polyline[l]));
       else
-        out[l] = axial[e];
+        *out++ = axial[e];
     }
   });
   // The members' section forces and stresses, per cell like the axial force.
   add(g.get(), "section_forces", {nl, 12}, "N (N, Qy, Qz), N*m (T, My, Mz); end 1, then end 2; element frame",
-      [this](const ModelState&, double* out) {
-        for (const MemberStress* m : cell_members) {
+      Split::cells, [this](const ModelState&, double* out, hsize_t lo, hsize_t hi) {
+        for (hsize_t c = lo; c < hi; ++c) {
+          const MemberStress* m = cell_members[c];
           for (int k = 0; k < 2; ++k) {
             const SectionForces f = m ? m->end[static_cast<std::size_t>(k)] : SectionForces{};
             const double v[6] = {f.N, f.Qy, f.Qz, f.T, f.My, f.Mz};
@@ -559,25 +725,24 @@ void ResultWriter::Impl::create_viz() {
           out += 12;
         }
       });
-  add(g.get(), "von_mises", {nl}, "Pa", per_cell([](const MemberStress& m) { return m.von_mises; }));
-  add(g.get(), "utilization", {nl}, "1 (von Mises / yield stress)",
+  add(g.get(), "von_mises", {nl}, "Pa", Split::cells, per_cell([](const MemberStress& m) { return m.von_mises; }));
+  add(g.get(), "utilization", {nl}, "1 (von Mises / yield stress)", Split::cells,
       per_cell([](const MemberStress& m) { return m.utilization; }));
   // Magnitudes by sqrt(a^2 + b^2), not std::hypot: resultants cannot overflow, and hypot's care
   // was a tenth of the output's evaluation (four per member and step).
-  add(g.get(), "bending_moment", {nl}, "N*m", per_cell([](const MemberStress& m) {
+  add(g.get(), "bending_moment", {nl}, "N*m", Split::cells, per_cell([](const MemberStress& m) {
         return std::sqrt(std::max(square(m.end[0].My) + square(m.end[0].Mz), square(m.end[1].My) + square(m.end[1].Mz)));
       }));
-  add(g.get(), "shear_force", {nl}, "N", per_cell([](const MemberStress& m) {
+  add(g.get(), "shear_force", {nl}, "N", Split::cells, per_cell([](const MemberStress& m) {
         return std::sqrt(std::max(square(m.end[0].Qy) + square(m.end[0].Qz), square(m.end[1].Qy) + square(m.end[1].Qz)));
       }));
-  add(g.get(), "torque", {nl}, "N*m",
+  add(g.get(), "torque", {nl}, "N*m", Split::cells,
       per_cell([](const MemberStress& m) { return std::max(std::abs(m.end[0].T), std::abs(m.end[1].T)); }));
   // The joints' frames for glyphs: drawing data, in single precision like the points.
   for (int axis = 0; axis < 3; ++axis)
-    add(g.get(), std::string("joint_axis_") + "xyz"[axis], {static_cast<hsize_t>(nj), 3}, "1",
-        [this, axis](const ModelState&, double* out) {
-          for (std::size_t j = 0; j < model.joints.size(); ++j)
-            std::copy_n(joint_axes.data() + 9 * j + 3 * axis, 3, out + 3 * j);
+    add(g.get(), std::string("joint_axis_") + "xyz"[axis], {static_cast<hsize_t>(nj), 3}, "1", Split::even,
+        [this, axis](const ModelState&, double* out, hsize_t lo, hsize_t hi) {
+          for (hsize_t j = lo; j < hi; ++j) std::copy_n(joint_axes.data() + 9 * j + 3 * axis, 3, out + 3 * (j - lo));
         },
         true);
   io::XdmfLayout layout{.h5_name = h5.filename().string(),
@@ -607,65 +772,127 @@ void ResultWriter::Impl::create_viz() {
         for (int i = offsets[c] + 2; i < offsets[c + 1]; ++i) local[i] -= b.first_point;
     io::write_ints(g.get(), "body_cells", local, ctx);
   }
+  if (!root()) return;  // rank 0 writes the XDMF
   document.emplace(std::move(layout));
   for (double t : kept_times) document->add_step(t);
 }
 
 void ResultWriter::Impl::compute_step(const ModelState& state) {
-  // One evaluation per element for everything recorded of it.
+  // One evaluation per element for everything recorded of it; a rank of a collective writer
+  // evaluates what it writes (set_parts), the rest of these arrays stays unread.
   const std::size_t ne = model.elements.size();
   element_out.resize(ne);
-  axial.resize(ne);
+  axial.resize(ne, std::numeric_limits<double>::quiet_NaN());
   energy = ElementEnergy{};
   const ElementContext ctx = state.context();
-  for (std::size_t e = 0; e < ne; ++e) {
-    ElementOutput& o = element_out[e];
-    model.elements[e].element->output(state.element_slots(static_cast<int>(e)), ctx, o);
-    axial[e] = o.axial_force.value_or(std::numeric_limits<double>::quiet_NaN());
+  for (int e = element_begin; e < element_end; ++e) {
+    ElementOutput& o = element_out[static_cast<std::size_t>(e)];
+    model.elements[static_cast<std::size_t>(e)].element->output(state.element_slots(e), ctx, o);
+    axial[static_cast<std::size_t>(e)] = o.axial_force.value_or(std::numeric_limits<double>::quiet_NaN());
     energy.kinetic += o.energy.kinetic;
     energy.gravity_potential += o.energy.gravity_potential;
     energy.strain += o.energy.strain;
     energy.fluid += o.energy.fluid;
   }
-  flow_values.resize(flow_columns.size());
-  for (std::size_t f = 0; f < flow_columns.size(); ++f) {
-    const FlowColumn& c = flow_columns[f];
-    if (c.index == 0) {  // an element's columns are consecutive: one evaluation gives them all
-      const Element& el = *model.elements[c.element].element;
-      element_flows.resize(el.flow_names().size());
-      el.flows(state.element_slots(c.element), ctx, element_flows);
+  if (root()) {
+    flow_values.resize(flow_columns.size());
+    for (std::size_t f = 0; f < flow_columns.size(); ++f) {
+      const FlowColumn& c = flow_columns[f];
+      if (c.index == 0) {  // an element's columns are consecutive: one evaluation gives them all
+        const Element& el = *model.elements[c.element].element;
+        element_flows.resize(el.flow_names().size());
+        el.flows(state.element_slots(c.element), ctx, element_flows);
+      }
+      flow_values[f] = element_flows[c.index];
     }
-    flow_values[f] = element_flows[c.index];
   }
-  viz->points(state, element_out, points);
+  viz->points(state, element_out, element_begin, element_end, rank + 1 == ranks, points);
   cell_members.resize(viz->cell_element().size());
-  for (std::size_t c = 0; c < cell_members.size(); ++c) cell_members[c] = cell_member(c);
+  for (int c = cell_begin; c < cell_end; ++c) cell_members[c] = cell_member(static_cast<std::size_t>(c));
+  // Joints and constraints: what this rank writes of them (an even share; all of them serially).
+  const auto share = [this](std::size_t n) {
+    return std::pair{n * static_cast<std::size_t>(rank) / static_cast<std::size_t>(ranks),
+                     n * static_cast<std::size_t>(rank + 1) / static_cast<std::size_t>(ranks)};
+  };
   joint_axes.resize(9 * model.joints.size());
-  for (std::size_t j = 0; j < model.joints.size(); ++j) {
+  for (auto [j, end] = share(model.joints.size()); j < end; ++j) {
     const Mat3 R = state.joint_frame_of(static_cast<int>(j)).second;
     std::copy(R.data(), R.data() + 9, joint_axes.data() + 9 * j);  // column-major: the axes in turn
   }
   reactions.resize(model.constraints.size());
-  for (std::size_t c = 0; c < reactions.size(); ++c) reactions[c] = state.constraint_reaction(static_cast<int>(c));
-  track_peak(state.time());
+  for (auto [c, end] = share(reactions.size()); c < end; ++c) reactions[c] = state.constraint_reaction(static_cast<int>(c));
 }
 
+void ResultWriter::Impl::combine_energy() {
+  if (!collective()) return;
+  double e[4] = {energy.kinetic, energy.gravity_potential, energy.strain, energy.fluid};
+  MPI_Allreduce(MPI_IN_PLACE, e, 4, MPI_DOUBLE, MPI_SUM, opts.comm);
+  energy.kinetic = e[0];
+  energy.gravity_potential = e[1];
+  energy.strain = e[2];
+  energy.fluid = e[3];
+}
+
+namespace {
+
+// Members with a utilization (their material gives a yield stress) outrank those without; then
+// the larger utilization, or von Mises stress, wins.
+bool outranks(const MemberPeak& a, const MemberPeak& b) {
+  const bool ua = std::isfinite(a.utilization), ub = std::isfinite(b.utilization);
+  if (ua != ub) return ua;
+  return ua ? a.utilization > b.utilization : a.von_mises > b.von_mises;
+}
+
+constexpr int kPeakDoubles = 18;  // a MemberPeak sent between ranks: valid, element, member, time, 2 stresses, 12 forces
+
+void pack(const std::optional<MemberPeak>& p, double* out) {
+  std::fill(out, out + kPeakDoubles, 0.0);
+  if (!p) return;
+  const double head[6] = {1.0, static_cast<double>(p->element), static_cast<double>(p->member), p->time, p->von_mises,
+                          p->utilization};
+  std::copy(head, head + 6, out);
+  for (int k = 0; k < 2; ++k) {
+    const SectionForces& f = k == 0 ? p->end1 : p->end2;
+    const double v[6] = {f.N, f.Qy, f.Qz, f.T, f.My, f.Mz};
+    std::copy(v, v + 6, out + 6 + 6 * k);
+  }
+}
+
+std::optional<MemberPeak> unpack(const double* in) {
+  if (in[0] == 0.0) return std::nullopt;
+  MemberPeak p{static_cast<int>(in[1]), static_cast<int>(in[2]), in[3], in[4], in[5], {}, {}};
+  for (int k = 0; k < 2; ++k) {
+    SectionForces& f = k == 0 ? p.end1 : p.end2;
+    const double* v = in + 6 + 6 * k;
+    f.N = v[0], f.Qy = v[1], f.Qz = v[2], f.T = v[3], f.My = v[4], f.Mz = v[5];
+  }
+  return p;
+}
+
+}  // namespace
+
 void ResultWriter::Impl::track_peak(double time) {
-  // Members with a utilization (their material gives a yield stress) outrank those without; then
-  // the larger utilization, or von Mises stress, wins.
-  auto outranks = [](const MemberStress& a, const MemberPeak& b) {
-    const bool ua = std::isfinite(a.utilization), ub = std::isfinite(b.utilization);
-    if (ua != ub) return ua;
-    return ua ? a.utilization > b.utilization : a.von_mises > b.von_mises;
-  };
-  for (std::size_t e = 0; e < element_out.size(); ++e) {
-    const auto& members = element_out[e].members;
+  // This step's most utilized member of this rank's elements (the first in element order of equals).
+  std::optional<MemberPeak> best;
+  for (int e = element_begin; e < element_end; ++e) {
+    const auto& members = element_out[static_cast<std::size_t>(e)].members;
     for (std::size_t m = 0; m < members.size(); ++m) {
       const MemberStress& ms = members[m];
-      if (!std::isfinite(ms.von_mises) || (peak && !outranks(ms, *peak))) continue;
-      peak = MemberPeak{static_cast<int>(e), static_cast<int>(m), time, ms.von_mises, ms.utilization, ms.end[0], ms.end[1]};
+      if (!std::isfinite(ms.von_mises)) continue;
+      const MemberPeak candidate{e, static_cast<int>(m), time, ms.von_mises, ms.utilization, ms.end[0], ms.end[1]};
+      if (!best || outranks(candidate, *best)) best = candidate;
     }
   }
+  std::vector<std::optional<MemberPeak>> bests{best};
+  if (collective()) {  // every rank's, in rank order (= element order)
+    std::vector<double> mine(kPeakDoubles), all(static_cast<std::size_t>(kPeakDoubles * ranks));
+    pack(best, mine.data());
+    MPI_Allgather(mine.data(), kPeakDoubles, MPI_DOUBLE, all.data(), kPeakDoubles, MPI_DOUBLE, opts.comm);
+    bests.clear();
+    for (int r = 0; r < ranks; ++r) bests.push_back(unpack(all.data() + kPeakDoubles * r));
+  }
+  for (const auto& b : bests)
+    if (b && (!peak || outranks(*b, *peak))) peak = b;
 }
 
 std::vector<int> ResultWriter::Impl::pressure_blocks() const {
@@ -767,8 +994,22 @@ void ResultWriter::append(const ModelState& state) {
     throw std::invalid_argument("ResultWriter::append: the state belongs to another model");
 
   const bool first = !w.viz;
-  if (first) w.viz = io::VizGeometry::plan(state);
-  w.compute_step(state);  // throws before anything is written if the geometry changed size
+  if (first) {
+    w.viz = io::VizGeometry::plan(state);
+    w.split_elements();
+  }
+  // Throws before anything is written if the geometry changed size (on every rank of a
+  // collective writer when it did on one).
+  std::string error;
+  try {
+    w.compute_step(state);
+  } catch (const std::exception& e) {
+    if (!w.collective()) throw;
+    error = e.what();
+  }
+  w.agree(error);
+  w.combine_energy();
+  w.track_peak(state.time());
 
   // The .h5 first (its rows kept until the next flush), then the XDMF after a flush: it only ever
   // names steps that are on disk.
@@ -778,16 +1019,18 @@ void ResultWriter::append(const ModelState& state) {
     if (first) {
       w.create_viz();
       w.create_state(static_cast<hsize_t>(state.coordinates().size()));
-    }
-    if (first) {
+      // Series continued just now hold a cut-back chunk in HDF5's cache (io::Series::reopen).
+      if (w.continuing && w.collective()) w.ctx.check(H5Fflush(w.file.get(), H5F_SCOPE_GLOBAL), "flush the file");
+      w.set_parts();
       // The rows kept between writes (see kPendingBytes) get their memory once.
-      std::size_t step_bytes = 0;
-      for (const auto& o : w.outputs) step_bytes += sizeof(double) * static_cast<std::size_t>(o.series.row_size());
-      const std::size_t rows = kPendingBytes / std::max<std::size_t>(step_bytes, 1) + 1;
+      const std::size_t rows = kPendingBytes / std::max<std::size_t>(w.whole_step_bytes(), 1) + 1;
       for (auto& o : w.outputs) o.series.reserve_rows(rows);
     }
-    // Every fill writes its whole row, straight into the series' pending rows.
-    for (auto& o : w.outputs) o.fill(state, o.series.append_row());
+    // Every fill writes its part of the row, straight into the series' pending rows.
+    for (auto& o : w.outputs) {
+      double* row = o.series.append_row();
+      if (o.series.row_size() > 0) o.fill(state, row, o.lo, o.hi);  // else another rank writes it
+    }
   } catch (...) {
     for (auto& o : w.outputs) o.series.discard_rows_after(kept);
     w.broken = true;
@@ -796,27 +1039,57 @@ void ResultWriter::append(const ModelState& state) {
   ++w.steps;
   w.unflushed = true;
   if (w.document) w.document->add_step(state.time());
+  if (w.root()) w.write_probe_row(state);
   // A flush writes every dataset's current chunk and the file's metadata, and the XDMF is
   // rewritten whole: after the first few steps both happen at most once a second (and on close),
   // so a run that is killed leaves a file at most a second behind, whose XDMF names only steps
-  // the .h5 has.
+  // the .h5 has. Rank 0's clock decides for all ranks of a collective writer.
   const auto now = std::chrono::steady_clock::now();
-  if (w.steps <= 16 || now - w.flushed >= std::chrono::seconds(1)) {
-    w.write_probe_row(state);
+  int due = w.steps <= 16 || now - w.flushed >= std::chrono::seconds(1);
+  if (w.collective()) MPI_Bcast(&due, 1, MPI_INT, 0, w.opts.comm);
+  if (due) {
     w.flush();
     return;
   }
-  w.write_probe_row(state);
   // Rows kept longer than a few MiB go to the datasets now (not yet flushed, not yet in the
-  // XDMF): the buffers are then reused in cache instead of growing into fresh pages.
-  std::size_t pending = 0;
-  for (const auto& o : w.outputs) pending += o.series.pending_bytes();
-  if (pending > kPendingBytes) w.write_pending();
+  // XDMF): the buffers are then reused in cache instead of growing into fresh pages. Counted in
+  // whole rows, so that every rank decides alike.
+  if (w.outputs.size() && w.outputs.front().series.pending_rows() * w.whole_step_bytes() > kPendingBytes) w.write_pending();
 }
 
-void ResultWriter::Impl::write_pending() {
+std::size_t ResultWriter::Impl::whole_step_bytes() const {
+  std::size_t bytes = 0;
+  for (const auto& o : outputs) bytes += sizeof(double) * static_cast<std::size_t>(o.series.whole_row_size());
+  return bytes;
+}
+
+void ResultWriter::Impl::write_pending(bool and_flush) {
+  // The ranks of a collective writer make every call together: a rank that fails one write goes
+  // on with the others' calls and all fail together at the end.
+  std::string error;
+  for (auto& o : outputs) {
+    try {
+      o.series.write_pending(ctx);
+    } catch (const std::exception& e) {
+      if (!collective()) {
+        broken = true;
+        throw;
+      }
+      if (error.empty()) error = e.what();
+    }
+  }
+  if (and_flush && (collective() || error.empty())) {
+    const herr_t status = H5Fflush(file.get(), H5F_SCOPE_GLOBAL);
+    if (status < 0 && error.empty()) {
+      try {
+        ctx.fail("flush the file");
+      } catch (const std::exception& e) {
+        error = e.what();
+      }
+    }
+  }
   try {
-    for (auto& o : outputs) o.series.write_pending(ctx);
+    agree(error);
   } catch (...) {
     broken = true;
     throw;
@@ -824,13 +1097,7 @@ void ResultWriter::Impl::write_pending() {
 }
 
 void ResultWriter::Impl::flush(bool final) {
-  write_pending();
-  try {
-    ctx.check(H5Fflush(file.get(), H5F_SCOPE_GLOBAL), "flush the file");
-  } catch (...) {
-    broken = true;
-    throw;
-  }
+  write_pending(true);
   if (probes && std::fflush(probes) != 0) os_fail("write", csv, errno);
   const auto now = std::chrono::steady_clock::now();
   if (document && (final || steps <= 16 || now - xdmf_written >= xdmf_pause)) {
@@ -852,13 +1119,17 @@ void ResultWriter::write_checkpoint(const Checkpoint& c) {
     throw std::logic_error("ResultWriter::write_checkpoint: an earlier append failed writing '" + w.h5.string() + "'");
   const io::QuietHdf5Errors quiet;
   w.flush();
+  // On a collective writer every rank passes the same checkpoint; rank 0 writes its vectors.
+  std::string error;
   try {
     latticedyn::write_checkpoint(w.file.get(), c, w.ctx);
     w.ctx.check(H5Fflush(w.file.get(), H5F_SCOPE_GLOBAL), "flush the file");
-  } catch (...) {
+  } catch (const std::exception& e) {
     w.broken = true;
-    throw;
+    if (!w.collective()) throw;
+    error = e.what();
   }
+  w.agree(error);
 }
 
 void ResultWriter::close() {
@@ -867,7 +1138,9 @@ void ResultWriter::close() {
   w.closed = true;
   const io::QuietHdf5Errors quiet;
   bool ok = true;
-  if ((w.unflushed || w.xdmf_stale) && !w.broken) {
+  int pending = (w.unflushed || w.xdmf_stale) && !w.broken;
+  if (w.collective()) MPI_Bcast(&pending, 1, MPI_INT, 0, w.opts.comm);  // only rank 0 knows of the XDMF
+  if (pending) {
     try {
       w.flush(true);
     } catch (const std::exception&) {
@@ -890,6 +1163,7 @@ fs::path ResultWriter::csv_path() const { return impl_->csv; }
 int ResultWriter::steps_written() const { return impl_->steps; }
 
 std::optional<MemberPeak> ResultWriter::member_peak() const { return impl_->peak; }
+bool ResultWriter::collective() const { return impl_->collective(); }
 
 std::string describe_member_peak(const Model& model, const MemberPeak& p) {
   const ElementEntry& entry = model.elements.at(static_cast<std::size_t>(p.element));

@@ -5,6 +5,8 @@
 #include "assembly/energy_ledger.hpp"
 #include "assembly/model_state.hpp"
 
+#include <mpi.h>
+
 #include <filesystem>
 #include <limits>
 #include <memory>
@@ -45,6 +47,12 @@ struct ResultWriterOptions {
   /// XDMF grows by a grid per body and output step (for the reduced crane about four times the
   /// text, its dynamics a quarter slower).
   bool body_blocks = false;
+  /// The ranks writing the files. One rank (the default, MPI_COMM_SELF): it writes everything from
+  /// the whole state. Several: the .h5 is written collectively through MPI-IO, each rank its share
+  /// of every large series (its run of elements with their drawn cells and points, an even share
+  /// of the blocks, joints and constraints), rank 0 the rest, the XDMF and the probe CSV; every
+  /// rank then calls every method with the whole state (SystemAssembler::gather on all ranks).
+  MPI_Comm comm = MPI_COMM_SELF;
 };
 
 /// The most utilized member over the steps written (by utilization where the materials give a
@@ -100,7 +108,8 @@ std::string describe_member_peak(const Model& model, const MemberPeak& peak);
 /// XDMF replaced atomically after each flush, so a run that stops (crash, kill) leaves readable
 /// files holding every append up to a second before; a solver failure closes them complete.
 ///
-/// Serial HDF5: use the writer on one MPI rank (the rank the state is gathered to). Not
+/// With one rank in ResultWriterOptions::comm the writer is serial: use it on the rank the state
+/// is gathered to. With several, each method is collective over them (see there). Not
 /// thread-safe. The Model must outlive the writer. A moved-from writer may only be destroyed or
 /// assigned to.
 class ResultWriter {
@@ -142,8 +151,10 @@ class ResultWriter {
   /// Number of completed append() calls.
   int steps_written() const;
   /// The most utilized member over the steps appended so far; none before the first append or
-  /// in a model without members.
+  /// in a model without members. The same on every rank of a collective writer.
   std::optional<MemberPeak> member_peak() const;
+  /// Whether several ranks write the files together (ResultWriterOptions::comm).
+  bool collective() const;
 
  private:
   struct Impl;

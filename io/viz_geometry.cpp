@@ -115,11 +115,17 @@ std::vector<VizGeometry::BodyRange> VizGeometry::body_ranges() const {
   return ranges;
 }
 
-void VizGeometry::points(const ModelState& state, const std::vector<ElementOutput>& elements,
-                         std::vector<double>& xyz) const {
+int VizGeometry::first_cell_of(int element) const {
+  // Element cells first (cell_element_ non-decreasing over them), then rigid-body cells (-1).
+  const auto element_cells = std::find(cell_element_.begin(), cell_element_.end(), -1);
+  return static_cast<int>(std::lower_bound(cell_element_.begin(), element_cells, element) - cell_element_.begin());
+}
+
+void VizGeometry::points(const ModelState& state, const std::vector<ElementOutput>& elements, int first_element,
+                         int end_element, bool frames, std::vector<double>& xyz) const {
   const Model& model = state.model();
-  xyz.resize(3 * static_cast<std::size_t>(num_points()));  // every point is written below
-  for (std::size_t e = 0; e < model.elements.size(); ++e) {
+  xyz.resize(3 * static_cast<std::size_t>(num_points()));  // every point of the range is written below
+  for (auto e = static_cast<std::size_t>(first_element); e < static_cast<std::size_t>(end_element); ++e) {
     const Element& element = *model.elements[e].element;
     const auto& polylines = elements.at(e).polylines;
     bool same = polylines.size() == axis_count_[e].size();
@@ -136,7 +142,7 @@ void VizGeometry::points(const ModelState& state, const std::vector<ElementOutpu
       at += axis_count_[e][k];
     }
   }
-  for (std::size_t k = 0; k < frame_points_.size(); ++k) {
+  for (std::size_t k = 0; frames && k < frame_points_.size(); ++k) {
     const FramePoint& p = frame_points_[k];
     Eigen::Map<Vec3>(xyz.data() + 3 * (first_frame_point_ + k)) =
         p.joint ? state.joint_position(p.index) : state.block(p.index).pos;

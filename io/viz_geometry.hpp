@@ -57,7 +57,21 @@ class VizGeometry {
   /// Point positions (3 per point) at `state`, the elements' polylines taken from `elements`
   /// (Element::output at the same state, one per model element). Throws std::runtime_error if an
   /// element's number of axis points differs from the first state's.
-  void points(const ModelState& state, const std::vector<ElementOutput>& elements, std::vector<double>& xyz) const;
+  void points(const ModelState& state, const std::vector<ElementOutput>& elements, std::vector<double>& xyz) const {
+    points(state, elements, 0, static_cast<int>(axis_count_.size()), true, xyz);
+  }
+  /// The same for the points of elements [first_element, end_element) only (their outputs alone
+  /// are read) and, with `frames`, the rigid bodies' points; the other entries of xyz (sized for
+  /// every point) are left as they were.
+  void points(const ModelState& state, const std::vector<ElementOutput>& elements, int first_element, int end_element,
+              bool frames, std::vector<double>& xyz) const;
+  /// The first cell drawn by an element from `element` on (num_cells's rigid-body cells after them
+  /// when none is): cells come in element order.
+  int first_cell_of(int element) const;
+  /// The first point of an element from `element` on (the rigid bodies' first point when none is).
+  int first_point_of(int element) const {
+    return element < static_cast<int>(element_first_.size()) ? element_first_[element] : first_frame_point_;
+  }
 
  private:
   /// A point at a joint's position or at a block's origin.
