@@ -65,8 +65,8 @@ class VizGeometry {
   /// every point) are left as they were.
   void points(const ModelState& state, const std::vector<ElementOutput>& elements, int first_element, int end_element,
               bool frames, std::vector<double>& xyz) const;
-  /// The first cell drawn by an element from `element` on (num_cells's rigid-body cells after them
-  /// when none is): cells come in element order.
+  /// The first cell drawn by an element from `element` on, or the first rigid-body cell (num_cells()
+  /// without any) when no later element draws one: cells come in element order.
   int first_cell_of(int element) const;
   /// The first point of an element from `element` on (the rigid bodies' first point when none is).
   int first_point_of(int element) const {
