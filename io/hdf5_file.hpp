@@ -112,6 +112,11 @@ class Series {
   /// dimension (a row without dimensions: all of it for [0, 1), none for [0, 0)). Several ranks
   /// writing one file collectively each take their part; by default a process writes whole rows.
   void set_part(hsize_t lo, hsize_t hi);
+  /// Entries along the row's first dimension (1 for a row without dimensions), and this
+  /// process's part of them (set_part).
+  hsize_t entries() const { return row_.empty() ? 1 : row_[0]; }
+  hsize_t part_begin() const { return part_lo_; }
+  hsize_t part_end() const { return part_hi_; }
   /// Doubles of this process's part of a row (what append_row() gives room for).
   int row_size() const { return row_size_; }
   /// Doubles of a whole row, whoever writes them.

@@ -22,6 +22,7 @@
 #include <optional>
 #include <stdexcept>
 #include <system_error>
+#include <tuple>
 #include <utility>
 
 namespace latticedyn {
@@ -68,8 +69,6 @@ struct ResultWriter::Impl {
     io::Series series;
     Fill fill;
     Split split = Split::root;
-    hsize_t entries = 1;     // along the row's first dimension (1 for a row without dimensions)
-    hsize_t lo = 0, hi = 0;  // this rank's part of them (set_parts)
   };
 
   const Model& model;
@@ -77,6 +76,11 @@ struct ResultWriter::Impl {
   int rank = 0, ranks = 1;  // in opts.comm; several ranks write the .h5 collectively
   bool collective() const { return ranks > 1; }
   bool root() const { return rank == 0; }
+  /// This rank's even share [begin, end) of n entries (all of them on a serial writer).
+  std::pair<hsize_t, hsize_t> even_share(hsize_t n) const {
+    return {n * static_cast<hsize_t>(rank) / static_cast<hsize_t>(ranks),
+            n * static_cast<hsize_t>(rank + 1) / static_cast<hsize_t>(ranks)};
+  }
   fs::path h5, xdmf, csv;
   io::Hdf5Context ctx;
   Hid transfer;  // MPI-IO transfer list (a writer of several ranks only)
@@ -498,13 +502,12 @@ void ResultWriter::Impl::add(hid_t group, const std::string& name, std::vector<h
                              Split split, Fill fill, bool single) {
   for (hsize_t d : row)
     if (d == 0) return;  // nothing to record, and HDF5 rejects zero chunk dimensions
-  const hsize_t n = row.empty() ? 1 : row[0];
   if (continuing)
     outputs.push_back({io::Series::reopen(group, name, std::move(row), static_cast<hsize_t>(opts.continuation->steps),
                                           ctx, single),
-                       std::move(fill), split, n, 0, n});
+                       std::move(fill), split});
   else
-    outputs.push_back({io::Series(group, name, std::move(row), units, ctx, single), std::move(fill), split, n, 0, n});
+    outputs.push_back({io::Series(group, name, std::move(row), units, ctx, single), std::move(fill), split});
 }
 
 void ResultWriter::Impl::split_elements() {
@@ -540,20 +543,15 @@ void ResultWriter::Impl::split_elements() {
 
 void ResultWriter::Impl::set_parts() {
   for (Output& o : outputs) {
-    const hsize_t n = o.entries;
+    const hsize_t n = o.series.entries();
     hsize_t lo = 0, hi = n;
     switch (o.split) {
       case Split::root: hi = root() ? n : 0; break;
-      case Split::even:
-        lo = n * static_cast<hsize_t>(rank) / static_cast<hsize_t>(ranks);
-        hi = n * static_cast<hsize_t>(rank + 1) / static_cast<hsize_t>(ranks);
-        break;
+      case Split::even: std::tie(lo, hi) = even_share(n); break;
       case Split::elements: lo = static_cast<hsize_t>(element_begin); hi = static_cast<hsize_t>(element_end); break;
       case Split::cells: lo = static_cast<hsize_t>(cell_begin); hi = static_cast<hsize_t>(cell_end); break;
       case Split::points: lo = static_cast<hsize_t>(point_begin); hi = static_cast<hsize_t>(point_end); break;
     }
-    o.lo = lo;
-    o.hi = hi;
     o.series.set_part(lo, hi);
   }
 }
@@ -809,18 +807,15 @@ void ResultWriter::Impl::compute_step(const ModelState& state) {
   viz->points(state, element_out, element_begin, element_end, rank + 1 == ranks, points);
   cell_members.resize(viz->cell_element().size());
   for (int c = cell_begin; c < cell_end; ++c) cell_members[c] = cell_member(static_cast<std::size_t>(c));
-  // Joints and constraints: what this rank writes of them (an even share; all of them serially).
-  const auto share = [this](std::size_t n) {
-    return std::pair{n * static_cast<std::size_t>(rank) / static_cast<std::size_t>(ranks),
-                     n * static_cast<std::size_t>(rank + 1) / static_cast<std::size_t>(ranks)};
-  };
+  // Joints and constraints: what this rank writes of them (Split::even).
   joint_axes.resize(9 * model.joints.size());
-  for (auto [j, end] = share(model.joints.size()); j < end; ++j) {
+  for (auto [j, end] = even_share(model.joints.size()); j < end; ++j) {
     const Mat3 R = state.joint_frame_of(static_cast<int>(j)).second;
     std::copy(R.data(), R.data() + 9, joint_axes.data() + 9 * j);  // column-major: the axes in turn
   }
   reactions.resize(model.constraints.size());
-  for (auto [c, end] = share(reactions.size()); c < end; ++c) reactions[c] = state.constraint_reaction(static_cast<int>(c));
+  for (auto [c, end] = even_share(reactions.size()); c < end; ++c)
+    reactions[c] = state.constraint_reaction(static_cast<int>(c));
 }
 
 void ResultWriter::Impl::combine_energy() {
@@ -1029,7 +1024,7 @@ void ResultWriter::append(const ModelState& state) {
     // Every fill writes its part of the row, straight into the series' pending rows.
     for (auto& o : w.outputs) {
       double* row = o.series.append_row();
-      if (o.series.row_size() > 0) o.fill(state, row, o.lo, o.hi);  // else another rank writes it
+      if (o.series.row_size() > 0) o.fill(state, row, o.series.part_begin(), o.series.part_end());  // else another rank writes it
     }
   } catch (...) {
     for (auto& o : w.outputs) o.series.discard_rows_after(kept);
