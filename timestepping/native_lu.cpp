@@ -2,9 +2,12 @@
 // pivot of their own moved behind rows that give them one, and the fallback to UMFPACK.
 #include "timestepping/native_lu.hpp"
 
+#include "timestepping/elimination_fill.hpp"
+
 #include <algorithm>
 #include <functional>
 #include <numeric>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -93,6 +96,35 @@ PetscErrorCode place_delayed_rows(const std::vector<char>& multiplier, const std
   PetscFunctionReturn(0);
 }
 
+// Does the block matrix's own order factor with no more work than `permuted` (block rows), give or
+// take 5 %? Counted on the block graph (elimination_cost), not by factoring.
+PetscErrorCode natural_order_suffices(Mat A, IS permuted, PetscBool* natural) {
+  PetscFunctionBeginUser;
+  *natural = PETSC_FALSE;
+  PetscInt blocks;
+  const PetscInt *ia, *ja;
+  PetscBool done;
+  PetscCall(MatGetRowIJ(A, 0, PETSC_TRUE, PETSC_TRUE, &blocks, &ia, &ja, &done));
+  if (!done) PetscFunctionReturn(0);
+  PetscInt m;
+  PetscCall(ISGetLocalSize(permuted, &m));
+  if (m == blocks) {
+    std::vector<PetscInt> own(blocks);
+    std::iota(own.begin(), own.end(), PetscInt{0});
+    const PetscInt* perm;
+    PetscCall(ISGetIndices(permuted, &perm));
+    const std::span<const PetscInt> start(ia, blocks + 1), columns(ja, ia[blocks]);
+    const EliminationCost as_is = elimination_cost(start, columns, own);
+    const EliminationCost reordered = elimination_cost(start, columns, std::span<const PetscInt>(perm, blocks));
+    PetscCall(ISRestoreIndices(permuted, &perm));
+    *natural = as_is.work <= 1.05 * reordered.work ? PETSC_TRUE : PETSC_FALSE;
+    PetscCall(PetscInfo(A, "block order: own %g, minimum degree %g (work of L, blocks): %s\n", as_is.work,
+                        reordered.work, *natural ? "own order" : "minimum degree"));
+  }
+  PetscCall(MatRestoreRowIJ(A, 0, PETSC_TRUE, PETSC_TRUE, &blocks, &ia, &ja, &done));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode saddle_point_ordering(Mat A, MatOrderingType, IS* row, IS* col) {
   PetscFunctionBeginUser;
   PetscInt n;
@@ -111,6 +143,23 @@ PetscErrorCode saddle_point_ordering(Mat A, MatOrderingType, IS* row, IS* col) {
   if (baij && bs > 1) {
     // A block matrix (SystemAssembler::create_matrix with uniform blocks) has no rows without a
     // pivot; its orderings permute blocks.
+    PetscBool natural;
+    PetscCall(natural_order_suffices(A, base_row, &natural));
+    if (natural) {
+      // PETSc then factors and solves with its natural-ordering kernels, without the permutation's
+      // indirection: on lattice-bays, whose model order is a chain along the lattice, the same flops
+      // as block AMD in 10 % less time (docs/performance.md).
+      PetscCall(ISDestroy(&base_row));
+      PetscCall(ISDestroy(&base_col));
+      PetscInt blocks;
+      PetscCall(MatGetSize(A, &blocks, nullptr));
+      blocks /= bs;
+      PetscCall(ISCreateStride(PETSC_COMM_SELF, blocks, 0, 1, row));
+      PetscCall(ISCreateStride(PETSC_COMM_SELF, blocks, 0, 1, col));
+      PetscCall(ISSetPermutation(*row));
+      PetscCall(ISSetPermutation(*col));
+      PetscFunctionReturn(0);
+    }
     *row = base_row;
     *col = base_col;
     PetscFunctionReturn(0);

@@ -21,7 +21,9 @@ inline constexpr const char* kSaddlePointOrdering = "saddle";
 /// after as many of its multipliers. The rows are those of the ISs composed on the matrix under
 /// kMultiplierRows and kUnstiffenedRows (SystemAssembler::create_matrix does); without them, the
 /// rows with a zero diagonal count as multipliers. On a block (BAIJ) matrix, which has no such
-/// rows, it is the plain block ordering.
+/// rows, it is the matrix's own block order where factoring in it takes at most 5 % more work than
+/// in the block minimum-degree order (counted on the block graph: elimination_cost), so PETSc's
+/// natural-ordering kernels run; else the minimum-degree order.
 PetscErrorCode register_saddle_point_ordering();
 
 /// Sets ksp's LU to PETSc's own factorisation in kSaddlePointOrdering. Without pivoting or the

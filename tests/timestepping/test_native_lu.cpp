@@ -1,7 +1,8 @@
 // PETSc's own LU on constrained Jacobians: the saddle-point ordering factors a full lattice whose
 // rigid end sections are frames held by constraints alone (where a band ordering meets a zero
 // pivot) to the solution UMFPACK gives, a lattice without constraints in 3 x 3 blocks too, and a
-// failed factorisation falls back to UMFPACK.
+// failed factorisation falls back to UMFPACK. A block matrix numbered along its lattice keeps its
+// own order (PETSc's natural-ordering kernels), one numbered at random gets minimum degree.
 #include "timestepping/native_lu.hpp"
 
 #include "../assembly/sample_models.hpp"
@@ -10,6 +11,8 @@
 #include "assembly/system_assembler.hpp"
 
 #include <gtest/gtest.h>
+
+#include <functional>
 
 namespace latticedyn {
 namespace {
@@ -139,6 +142,51 @@ TEST(NativeLU, FactorsTheBlockMatrixOfALatticeAsUmfpackDoes) {
   EXPECT_LT(relative_difference(native.x, reference.x), 1e-9);
   MatDestroy(&rows);
   MatDestroy(&blocks);
+}
+
+// A block matrix (3 x 3 blocks) shaped like a lattice along its length: block k couples to the
+// blocks two places either side of it along the chain; `place` numbers the chain's blocks.
+Mat chain_of_blocks(PetscInt blocks, const std::function<PetscInt(PetscInt)>& place) {
+  Mat A;
+  PetscCallAbort(PETSC_COMM_SELF, MatCreateSeqBAIJ(PETSC_COMM_SELF, 3, 3 * blocks, 3 * blocks, 5, nullptr, &A));
+  for (PetscInt k = 0; k < blocks; ++k)
+    for (PetscInt d = -2; d <= 2; ++d) {
+      if (k + d < 0 || k + d >= blocks) continue;
+      PetscScalar v[9];
+      for (int e = 0; e < 9; ++e) v[e] = d == 0 ? (e % 4 == 0 ? 20.0 + k % 5 : 0.3) : -1.0 / (1 + std::abs(d)) + 0.01 * e;
+      const PetscInt r = place(k), c = place(k + d);
+      PetscCallAbort(PETSC_COMM_SELF, MatSetValuesBlocked(A, 1, &r, 1, &c, v, INSERT_VALUES));
+    }
+  PetscCallAbort(PETSC_COMM_SELF, MatAssemblyBegin(A, MAT_FINAL_ASSEMBLY));
+  PetscCallAbort(PETSC_COMM_SELF, MatAssemblyEnd(A, MAT_FINAL_ASSEMBLY));
+  return A;
+}
+
+TEST(NativeLU, ABlockMatrixKeepsItsOwnOrderWhereItFactorsAsCheaply) {
+  ASSERT_EQ(register_saddle_point_ordering(), 0);
+  const PetscInt blocks = 60;
+  const std::function<PetscInt(PetscInt)> along = [](PetscInt k) { return k; };
+  const std::function<PetscInt(PetscInt)> scattered = [&](PetscInt k) { return (7 * k) % blocks; };
+  for (const auto* place : {&along, &scattered}) {
+    Mat A = chain_of_blocks(blocks, *place);
+    IS row, col;
+    ASSERT_EQ(MatGetOrdering(A, kSaddlePointOrdering, &row, &col), 0);
+    PetscBool own;
+    ISIdentity(row, &own);
+    // Along the chain its own order has no fill beyond the band; scattered, it fills nearly all.
+    EXPECT_EQ(own, place == &along ? PETSC_TRUE : PETSC_FALSE);
+    ISDestroy(&row);
+    ISDestroy(&col);
+    Mat rows;
+    ASSERT_EQ(MatConvert(A, MATSEQAIJ, MAT_INITIAL_MATRIX, &rows), 0);
+    const Solve reference = solve(rows, MATSOLVERUMFPACK, MATORDERINGEXTERNAL);
+    const Solve native = solve(A, MATSOLVERPETSC, kSaddlePointOrdering);
+    ASSERT_EQ(reference.failure, PC_NOERROR);
+    ASSERT_EQ(native.failure, PC_NOERROR);
+    EXPECT_LT(relative_difference(native.x, reference.x), 1e-12);
+    MatDestroy(&rows);
+    MatDestroy(&A);
+  }
 }
 
 TEST(NativeLU, FailedFactorisationFallsBackToUmfpack) {
