@@ -151,23 +151,22 @@ PetscErrorCode saddle_point_ordering(Mat A, MatOrderingType, IS* row, IS* col) {
     // pivot; its orderings permute blocks.
     PetscBool natural;
     PetscCall(natural_order_suffices(A, base_row, &natural));
-    if (natural) {
-      // PETSc then factors and solves with its natural-ordering kernels, without the permutation's
-      // indirection: on lattice-bays, whose model order is a chain along the lattice, the same flops
-      // as block AMD in 10 % less time (docs/performance.md).
-      PetscCall(ISDestroy(&base_row));
-      PetscCall(ISDestroy(&base_col));
-      PetscInt blocks;
-      PetscCall(MatGetSize(A, &blocks, nullptr));
-      blocks /= bs;
-      PetscCall(ISCreateStride(PETSC_COMM_SELF, blocks, 0, 1, row));
-      PetscCall(ISCreateStride(PETSC_COMM_SELF, blocks, 0, 1, col));
-      PetscCall(ISSetPermutation(*row));
-      PetscCall(ISSetPermutation(*col));
+    if (!natural) {
+      *row = base_row;
+      *col = base_col;
       PetscFunctionReturn(0);
     }
-    *row = base_row;
-    *col = base_col;
+    // PETSc then factors and solves with its natural-ordering kernels, without the permutation's
+    // indirection: on lattice-bays, whose model order is a chain along the lattice, the same flops
+    // as block AMD in 10 % less time (docs/performance.md).
+    PetscInt blocks;
+    PetscCall(ISGetLocalSize(base_row, &blocks));
+    PetscCall(ISDestroy(&base_row));
+    PetscCall(ISDestroy(&base_col));
+    PetscCall(ISCreateStride(PETSC_COMM_SELF, blocks, 0, 1, row));
+    PetscCall(ISCreateStride(PETSC_COMM_SELF, blocks, 0, 1, col));
+    PetscCall(ISSetPermutation(*row));
+    PetscCall(ISSetPermutation(*col));
     PetscFunctionReturn(0);
   }
   const PetscInt* perm;
