@@ -209,8 +209,9 @@ PetscErrorCode ElementTerm::add_element_jacobian(const LocalState& s, int local,
     }
     const PetscInt* plan = fill_.element_offsets(local);
     const PetscInt stride = fill_.column_stride();
-    if (stride == 3) {
-      // BAIJ's 3 x 3 blocks are column-major and contiguous: the first row's position is the block's.
+    if (stride == 3 || stride == 6) {
+      // BAIJ's blocks are column-major: a slot's 3 x 3 block starts at its first row's position,
+      // its columns `stride` apart (a whole 3 x 3 block, or a quarter of a node's 6 x 6 one).
       // Every slot has three DoFs (uniform_blocks); rows of another rank go through MatSetValues.
       for (int ki = 0; ki < ns; ++ki) {
         const SlotMap& mi = maps[ki];
@@ -221,7 +222,11 @@ PetscErrorCode ElementTerm::add_element_jacobian(const LocalState& s, int local,
           const SlotMap& mj = maps[kj];
           if (!mj.free) continue;
           if (row0[kj] >= 0) {
-            Eigen::Map<Mat3>(fill_.values(row0[kj])) += A.template block<3, 3>(mi.offset, mj.offset);
+            double* at = fill_.values(row0[kj]);
+            if (stride == 3)
+              Eigen::Map<Mat3>(at) += A.template block<3, 3>(mi.offset, mj.offset);
+            else
+              Eigen::Map<Mat3, 0, Eigen::OuterStride<6>>(at) += A.template block<3, 3>(mi.offset, mj.offset);
           } else {
             const PetscInt ri = dofs_.block_dof(mi.block), cj = dofs_.block_dof(mj.block);
             const PetscInt rows[3] = {ri, ri + 1, ri + 2}, cols[3] = {cj, cj + 1, cj + 2};

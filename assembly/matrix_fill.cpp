@@ -69,16 +69,16 @@ void MatrixFill::add_position(PetscInt row, PetscInt col) {
                            ") of the preallocated pattern");
   };
   if (block_size_ > 1) {
-    // Block (lr / bs, col / bs), stored column by column: its entry (r, c) at bs^2 k + bs c + r.
-    const PetscInt bs = block_size_, br = lr / bs;
-    if (col % bs != 0) missing();
+    // Block (lr / bs, col / bs), stored column by column: its entry (r, c) at bs^2 k + bs c + r. A
+    // column block of the elements may start inside a matrix block (3 x 3 slots in 6 x 6 blocks).
+    const PetscInt bs = block_size_, br = lr / bs, within = (col % bs) * bs + lr % bs;
     if (col >= cstart_ && col < cend_) {
       const PetscInt bc = (col - cstart_) / bs;
       const PetscInt* begin = ja_ + ia_[br];
       const PetscInt* end = ja_ + ia_[br + 1];
       const PetscInt* it = std::lower_bound(begin, end, bc);
       if (it == end || *it != bc) missing();
-      offsets_.push_back(static_cast<PetscInt>(it - ja_) * bs * bs + lr % bs);
+      offsets_.push_back(static_cast<PetscInt>(it - ja_) * bs * bs + within);
       return;
     }
     if (!b_) missing();
@@ -87,7 +87,7 @@ void MatrixFill::add_position(PetscInt row, PetscInt col) {
     const PetscInt* end = jb_ + ib_[br + 1];
     const PetscInt* it = std::lower_bound(begin, end, bc, [&](PetscInt k, PetscInt c) { return garray_[k] < c; });
     if (it == end || garray_[*it] != bc) missing();
-    offsets_.push_back(diagonal_nnz_ + static_cast<PetscInt>(it - jb_) * bs * bs + lr % bs);
+    offsets_.push_back(diagonal_nnz_ + static_cast<PetscInt>(it - jb_) * bs * bs + within);
     return;
   }
   if (col >= cstart_ && col < cend_) {

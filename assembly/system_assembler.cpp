@@ -156,23 +156,55 @@ PetscErrorCode SystemAssembler::create_vector(Vec* v) const {
 }
 
 bool SystemAssembler::uniform_blocks(int block_size) const {
-  if (dofs_.num_multipliers() > 0) return false;
-  for (const DofBlock& b : model_.blocks)
-    if (!b.fixed && b.size() != block_size) return false;
+  if (block_size < 1 || dofs_.num_multipliers() > 0) return false;
+  for (int p = 0; p <= dofs_.size(); ++p)
+    if ((p < dofs_.size() ? dofs_.begin(p) : dofs_.global_size()) % block_size != 0) return false;
+  // Each group of block_size DoFs made of whole blocks coupled to one another (a node's translation
+  // and rotation for 6): else the stored blocks would carry zeros the LU works through.
+  const auto& graph = dofs_.block_graph();
+  for (std::size_t b = 0; b < model_.blocks.size(); ++b) {
+    const DofBlock& block = model_.blocks[b];
+    if (block.fixed) continue;
+    const int size = block.size(), group = dofs_.block_dof(static_cast<int>(b)) / block_size;
+    if (block_size % size != 0) return false;
+    int partners = 0;  // blocks of its group it is coupled to, itself included
+    for (int c : graph[b])
+      if (dofs_.block_dof(c) / block_size == group) {
+        if (model_.blocks[c].size() != size) return false;
+        ++partners;
+      }
+    if (partners != block_size / size) return false;
+  }
   return true;
 }
 
 PetscErrorCode SystemAssembler::create_matrix(Mat* m, int block_size) const {
   PetscFunctionBeginUser;
   PetscCheck(block_size == 1 || uniform_blocks(block_size), comm_, PETSC_ERR_ARG_WRONG,
-             "create_matrix: not every unknown is in a block of %d DoFs", block_size);
-  std::vector<int> d, o;
-  dofs_.count_nonzeros(d, o);
-  // Per block row (every row of a block has its pattern): the nonzero blocks of its first row.
+             "create_matrix: the unknowns do not form coupled groups of %d DoFs", block_size);
   std::vector<PetscInt> dn, on;
-  for (std::size_t i = 0; i < d.size(); i += block_size) {
-    dn.push_back(d[i] / block_size);
-    on.push_back(o[i] / block_size);
+  if (block_size == 1) {
+    std::vector<int> d, o;
+    dofs_.count_nonzeros(d, o);
+    dn.assign(d.begin(), d.end());
+    on.assign(o.begin(), o.end());
+  } else {
+    // Per block row: the block columns its blocks' couplings reach (no multipliers here).
+    const int lo = dofs_.owned_begin(), hi = dofs_.owned_end();
+    std::vector<std::vector<int>> columns((hi - lo) / block_size);
+    const auto& graph = dofs_.block_graph();
+    for (std::size_t b = 0; b < model_.blocks.size(); ++b) {
+      const int g = dofs_.block_dof(static_cast<int>(b));
+      if (model_.blocks[b].fixed || g < lo || g >= hi) continue;
+      for (int c : graph[b]) columns[(g - lo) / block_size].push_back(dofs_.block_dof(c) / block_size);
+    }
+    for (auto& row : columns) {
+      std::sort(row.begin(), row.end());
+      row.erase(std::unique(row.begin(), row.end()), row.end());
+      const auto own = std::count_if(row.begin(), row.end(), [&](int k) { return k * block_size >= lo && k * block_size < hi; });
+      dn.push_back(static_cast<PetscInt>(own));
+      on.push_back(static_cast<PetscInt>(row.size() - own));
+    }
   }
   PetscCall(MatCreate(comm_, m));
   PetscCall(MatSetSizes(*m, dofs_.owned_size(), dofs_.owned_size(), dofs_.global_size(), dofs_.global_size()));

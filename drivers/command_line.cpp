@@ -311,7 +311,7 @@ CommandLine parse_command_line(int argc, const char* const* argv) {
 PetscErrorCode register_latticedyn_options(MPI_Comm comm) {
   PetscFunctionBeginUser;
   PetscOptionsBegin(comm, nullptr, "latticedyn's own options", "latticedyn");
-  PetscInt threads = 0, dense = GeneralizedAlphaIntegrator::kDenseBelow, rank = -1;
+  PetscInt threads = 0, dense = GeneralizedAlphaIntegrator::kDenseBelow, rank = -1, block_size = 6;
   PetscReal after = ProgressObserver::kDefaultAfter, interval = ProgressObserver::kDefaultInterval, slow = 0.0;
   PetscBool blocks = PETSC_TRUE, predictor = PETSC_TRUE, collective = PETSC_TRUE;
   PetscCall(PetscOptionsInt("-assembly_threads", "threads evaluating elements per rank (default: OMP_NUM_THREADS on 1 rank, 1 on several)",
@@ -324,6 +324,8 @@ PetscErrorCode register_latticedyn_options(MPI_Comm comm) {
                             "latticedyn", dense, &dense, nullptr));
   PetscCall(PetscOptionsBool("-dyn_block_matrix", "generalized-alpha: 3 x 3 block matrices where every unknown is in a block of three",
                              "latticedyn", blocks, &blocks, nullptr));
+  PetscCall(PetscOptionsInt("-dyn_block_size", "generalized-alpha: the largest block: 6 (a node's translation and rotation, where they lie side by side) or 3",
+                            "latticedyn", block_size, &block_size, nullptr));
   PetscCall(PetscOptionsBool("-dyn_predictor", "generalized-alpha: Newton starts from a Taylor guess", "latticedyn",
                              predictor, &predictor, nullptr));
   PetscCall(PetscOptionsBool("-output_collective", "on several ranks: every rank writes its part of the results (MPI-IO); 0: rank 0 writes all",

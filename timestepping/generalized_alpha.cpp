@@ -42,14 +42,23 @@ GeneralizedAlphaIntegrator::GeneralizedAlphaIntegrator(SystemAssembler& sa, Dyna
   const bool dense = ranks == 1 && n <= dense_below && !solver_chosen && !pc_chosen;
   if (dense) PetscCallAbort(comm, MatCreateSeqDense(PETSC_COMM_SELF, n, n, nullptr, &P_));
   // Where every unknown is in a block of three (translations and rotations; no multipliers), PETSc's
-  // LU on one process works in dense 3 x 3 blocks: 0.6 of the AIJ factorisation's time on a
-  // 640-bay lattice (docs/performance.md). -dyn_block_matrix 0: AIJ all the same.
+  // LU works in dense blocks: 3 x 3, 0.6 of the AIJ factorisation's time on a 640-bay lattice, or
+  // where each node's translation and rotation lie side by side, the node's 6 x 6
+  // (docs/performance.md). -dyn_block_matrix 0: AIJ all the same; -dyn_block_size 3: no larger.
   PetscBool blocks = PETSC_TRUE;
+  PetscInt largest = 6;
   PetscCallAbort(comm, PetscOptionsGetBool(nullptr, nullptr, "-dyn_block_matrix", &blocks, nullptr));
+  PetscCallAbort(comm, PetscOptionsGetInt(nullptr, nullptr, "-dyn_block_size", &largest, nullptr));
   const bool native = ranks == 1 && !dense && !solver_chosen && !pc_chosen;
   const bool subdomains = ranks > 1 && !solver_chosen && !pc_chosen && !ksp_chosen && sa_.model().constraints.empty();
-  const bool block_matrix = (native || subdomains) && blocks && sa_.uniform_blocks(3);
-  PetscCallAbort(comm, sa_.create_matrix(&J_, block_matrix ? 3 : 1));
+  int block_size = 1;
+  if ((native || subdomains) && blocks)
+    for (int bs : {6, 3})
+      if (bs <= largest && sa_.uniform_blocks(bs)) {
+        block_size = bs;
+        break;
+      }
+  PetscCallAbort(comm, sa_.create_matrix(&J_, block_size));
   PetscCallAbort(comm, TSSetI2Jacobian(ts_, J_, P_ ? P_ : J_, i2jacobian, this));
   PetscCallAbort(comm, TSAlpha2SetRadius(ts_, settings_.rho_infinity));
   PetscCallAbort(comm, TSSetTime(ts_, settings_.t_start));

@@ -11,7 +11,7 @@ namespace {
 
 // latticedyn's own options that share the dynamic prefix.
 bool own_option(const std::string& name) {
-  return name == "-dyn_dense_below" || name == "-dyn_block_matrix" || name == "-dyn_predictor";
+  return name == "-dyn_dense_below" || name == "-dyn_block_matrix" || name == "-dyn_block_size" || name == "-dyn_predictor";
 }
 
 // A token that names an option: a dash and then not a number (-1e-3 is a value).

@@ -20,7 +20,7 @@ inline constexpr const char* kDynamicPrefix = "dyn_";
 /// plain option's own value saved), and on destruction the plain options are restored. Solvers
 /// keep no prefix, so options read while they set up or solve (-snes_view, -ksp_converged_reason,
 /// subdomain solvers created at the first solve) see the prefixed values too. latticedyn's own
-/// -dyn_dense_below, -dyn_block_matrix and -dyn_predictor are left alone. Not nestable for one
+/// -dyn_dense_below, -dyn_block_matrix, -dyn_block_size and -dyn_predictor are left alone. Not nestable for one
 /// name; the static and dynamic solvers never run at the same time.
 class PrefixedOptions {
  public:

@@ -8,6 +8,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 namespace latticedyn {
 namespace {
 
@@ -105,6 +107,36 @@ TEST(DofMap, PartitionsOverRanksConsistently) {
     for (int i = 0; i < d.owned_size(); ++i) EXPECT_GT(dn[i] + on[i], 0);
   }
   EXPECT_EQ(total_rows, m.num_free_dofs() + m.num_multipliers());
+}
+
+// The partition keeps each node's translation and rotation on one rank, side by side (the 6 x 6
+// blocks of SystemAssembler::uniform_blocks), and the parts stay balanced.
+TEST(DofMap, KeepsEachNodesTranslationAndRotationTogether) {
+  const Model m = testing::clamped_lattice_model();
+  for (int ranks : {2, 3}) {
+    std::vector<int> owned;
+    for (int p = 0; p < ranks; ++p) {
+      const DofMap d(m, p, ranks);
+      owned.push_back(d.owned_size());
+      EXPECT_EQ(d.owned_size() % 6, 0) << ranks << " ranks, rank " << p;
+      int nodes = 0;  // a beam's end nodes: its slots (translation, rotation) twice
+      for (const ElementEntry& e : m.elements) {
+        const auto kinds = e.element->slots();
+        for (std::size_t k = 0; k + 1 < kinds.size(); k += 2) {
+          if (kinds[k] != SlotKind::translation || kinds[k + 1] != SlotKind::rotation) continue;
+          const int t = e.slots[k].block, r = e.slots[k + 1].block;
+          if (m.blocks[t].fixed || m.blocks[r].fixed) continue;
+          ++nodes;
+          EXPECT_EQ(d.block_owner(t), d.block_owner(r)) << m.blocks[t].label;
+          EXPECT_EQ(d.block_dof(r), d.block_dof(t) + 3) << m.blocks[t].label;
+          EXPECT_EQ(d.block_dof(t) % 6, 0) << m.blocks[t].label;
+        }
+      }
+      EXPECT_GT(nodes, 20);
+    }
+    const auto [lo, hi] = std::minmax_element(owned.begin(), owned.end());
+    EXPECT_LE(*hi - *lo, 12) << ranks << " ranks: parts of " << *lo << " to " << *hi << " DoFs";
+  }
 }
 
 // Names are found by hash (the builder keeps the index as it adds), duplicates are still refused,

@@ -147,14 +147,18 @@ INSTANTIATE_TEST_SUITE_P(
                            1}),
     [](const ::testing::TestParamInfo<Case>& info) { return std::string(info.param.name); });
 
-// The same Jacobian in 3 x 3 blocks (BAIJ) as in compressed rows (AIJ): written through
-// MatSetValues the first time and straight into the block value arrays after, with a follower load
-// whose stiffness always goes through MatSetValues.
-TEST(SystemAssembler, BlockMatrixHoldsTheSameJacobian) {
+// The same Jacobian in 3 x 3 blocks and in each node's 6 x 6 block (BAIJ) as in compressed rows
+// (AIJ): written through MatSetValues the first time and straight into the block value arrays
+// after, with a follower load whose stiffness always goes through MatSetValues.
+class BlockMatrix : public ::testing::TestWithParam<int> {};
+
+TEST_P(BlockMatrix, HoldsTheSameJacobian) {
+  const int block_size = GetParam();
   const Model model = testing::clamped_lattice_model();
   SystemAssembler sa(model, PETSC_COMM_SELF);
   ASSERT_TRUE(sa.uniform_blocks(3));
-  EXPECT_FALSE(sa.uniform_blocks(6));
+  ASSERT_TRUE(sa.uniform_blocks(6)) << "each node's translation and rotation side by side";
+  EXPECT_FALSE(sa.uniform_blocks(4)) << "blocks of three do not fill groups of four";
   EXPECT_FALSE(SystemAssembler(testing::kitchen_sink_model(), PETSC_COMM_SELF).uniform_blocks(3));
   Vec U, V;
   sa.create_vector(&U);
@@ -176,7 +180,10 @@ TEST(SystemAssembler, BlockMatrixHoldsTheSameJacobian) {
   SystemAssembler sa_blocks(model, PETSC_COMM_SELF);
   Mat rows, blocks;
   ASSERT_EQ(sa.create_matrix(&rows), 0);
-  ASSERT_EQ(sa_blocks.create_matrix(&blocks, 3), 0);
+  ASSERT_EQ(sa_blocks.create_matrix(&blocks, block_size), 0);
+  PetscInt bs;
+  MatGetBlockSize(blocks, &bs);
+  EXPECT_EQ(bs, block_size);
   MatType type;
   MatGetType(blocks, &type);
   EXPECT_STREQ(type, MATSEQBAIJ);
@@ -196,6 +203,8 @@ TEST(SystemAssembler, BlockMatrixHoldsTheSameJacobian) {
   VecDestroy(&U);
   VecDestroy(&V);
 }
+
+INSTANTIATE_TEST_SUITE_P(SystemAssembler, BlockMatrix, ::testing::Values(3, 6));
 
 TEST(SystemAssembler, PreallocationIsExactAndPatternFixed) {
   const Model model = testing::kitchen_sink_model();
