@@ -206,6 +206,25 @@ TEST_P(BlockMatrix, HoldsTheSameJacobian) {
 
 INSTANTIATE_TEST_SUITE_P(SystemAssembler, BlockMatrix, ::testing::Values(3, 6));
 
+// A node whose rotation is held leaves its translation without a partner: no 6 x 6 blocks then,
+// the 3 x 3 ones still.
+TEST(SystemAssembler, ANodeWithoutItsRotationKeepsTheMatrixIn3x3Blocks) {
+  Model model = testing::clamped_lattice_model();
+  int held = -1;
+  for (const ElementEntry& e : model.elements)
+    for (const SlotBinding& slot : e.slots)
+      if (held < 0 && model.blocks[slot.block].kind == SlotKind::rotation && !model.blocks[slot.block].fixed)
+        held = slot.block;
+  ASSERT_GE(held, 0);
+  model.blocks[held].fixed = true;
+  const SystemAssembler sa(model, PETSC_COMM_SELF);
+  EXPECT_TRUE(sa.uniform_blocks(3));
+  EXPECT_FALSE(sa.uniform_blocks(6));
+  Mat J;
+  ASSERT_EQ(sa.create_matrix(&J, 3), 0);
+  MatDestroy(&J);
+}
+
 TEST(SystemAssembler, PreallocationIsExactAndPatternFixed) {
   const Model model = testing::kitchen_sink_model();
   SystemAssembler sa(model, PETSC_COMM_SELF);
