@@ -324,7 +324,7 @@ PetscErrorCode register_latticedyn_options(MPI_Comm comm) {
                             "latticedyn", dense, &dense, nullptr));
   PetscCall(PetscOptionsBool("-dyn_block_matrix", "generalized-alpha: 3 x 3 block matrices where every unknown is in a block of three",
                              "latticedyn", blocks, &blocks, nullptr));
-  PetscCall(PetscOptionsInt("-dyn_block_size", "generalized-alpha: the largest block: 6 (a node's translation and rotation, where they lie side by side) or 3",
+  PetscCall(PetscOptionsInt("-dyn_block_size", "generalized-alpha: the largest block: 6 (a node's translation and rotation, where they lie side by side), 3, or 1 (none)",
                             "latticedyn", block_size, &block_size, nullptr));
   PetscCall(PetscOptionsBool("-dyn_predictor", "generalized-alpha: Newton starts from a Taylor guess", "latticedyn",
                              predictor, &predictor, nullptr));

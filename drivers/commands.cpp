@@ -104,6 +104,21 @@ std::string unknown_solver_type(MPI_Comm comm) {
   return message;
 }
 
+// latticedyn's own options whose value is restricted, as a message ("" if every one is usable):
+// checked with the solver types, before anything is written.
+std::string unusable_own_option(MPI_Comm comm) {
+  PetscInt block_size = 6;
+  PetscBool set = PETSC_FALSE;
+  PetscCallAbort(comm, PetscPushErrorHandler(PetscReturnErrorHandler, nullptr));
+  const PetscErrorCode read = PetscOptionsGetInt(nullptr, nullptr, "-dyn_block_size", &block_size, &set);
+  PetscCallAbort(comm, PetscPopErrorHandler());
+  const std::string expected = ": expected 6 (each node's translation and rotation in one block), 3 or 1 (no blocks)";
+  if (read) return "-dyn_block_size is not a whole number" + expected;
+  if (set && block_size != 1 && block_size != 3 && block_size != 6)
+    return "-dyn_block_size " + std::to_string(block_size) + expected;
+  return "";
+}
+
 // The results file a run writes: <output directory>/<name>.h5.
 std::filesystem::path results_file(const Simulation& sim, const CommandOptions& opt) {
   const std::string dir = opt.output_directory.empty() ? sim.output.directory : opt.output_directory;
@@ -234,6 +249,7 @@ int command_solve(Simulation& sim, const CommandOptions& opt, MPI_Comm comm, boo
   if (!opt.output_directory.empty()) sim.output.directory = opt.output_directory;
   print_root(comm, describe_model(sim.model));
   std::string error = unknown_solver_type(comm);
+  if (error.empty()) error = unusable_own_option(comm);
   if (!error.empty()) {
     error_root(comm, error);
     return kInputError;

@@ -532,6 +532,14 @@ TEST_F(Cli, UnknownSolverTypesAreExitTwoWithNothingWritten) {
     EXPECT_NE(o.err.find("unknown solver type 'nonexistent'"), std::string::npos) << o.err;
     EXPECT_FALSE(fs::exists(dir_ / "out" / "pendulum.h5")) << option;
   }
+  // latticedyn's own block size: 6, 3 or 1, said in one line.
+  for (const char* option : {"-dyn_block_size 4", "-dyn_block_size six"}) {
+    const Outcome o = run(std::string("run pendulum.yaml --output out ") + option);
+    EXPECT_EQ(o.code, 2) << option << ": " << o.err;
+    EXPECT_NE(o.err.find("-dyn_block_size"), std::string::npos) << o.err;
+    EXPECT_NE(o.err.find("expected 6"), std::string::npos) << o.err;
+    EXPECT_FALSE(fs::exists(dir_ / "out" / "pendulum.h5")) << option;
+  }
   const Outcome two = run("run pendulum.yaml --output out -ts_type nonexistent", latticedyn::testing::mpiexec(MPIEXEC, 2));
   EXPECT_EQ(two.code, 2) << two.err;
   // A PETSc error past the checks (here an unknown sub-solver's type, met when the
