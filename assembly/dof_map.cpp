@@ -93,12 +93,10 @@ void DofMap::partition() {
   }
   const int nvertices = static_cast<int>(first_of.size());
   std::vector<idx_t> xadj(1, 0), adjncy, vwgt(nvertices, 0);
-  std::vector<int> members;
   for (int v = 0; v < nvertices; ++v) {
-    members.assign(1, first_of[v]);
-    if (second_of[v] >= 0) members.push_back(second_of[v]);
     const std::size_t start = adjncy.size();
-    for (int b : members) {
+    for (int b : {first_of[v], second_of[v]}) {
+      if (b < 0) continue;
       vwgt[v] += model_.blocks[b].size();
       for (int c : graph_[b])
         if (vertex[c] != v) adjncy.push_back(vertex[c]);

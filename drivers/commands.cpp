@@ -9,6 +9,7 @@
 #include "drivers/simulation.hpp"
 #include "timestepping/arc_length.hpp"
 #include "timestepping/buckling_analysis.hpp"
+#include "timestepping/generalized_alpha.hpp"
 #include "timestepping/modal_analysis.hpp"
 
 #include <petscts.h>
@@ -114,7 +115,8 @@ std::string unusable_own_option(MPI_Comm comm) {
   PetscCallAbort(comm, PetscPopErrorHandler());
   const std::string expected = ": expected 6 (each node's translation and rotation in one block), 3 or 1 (no blocks)";
   if (read) return "-dyn_block_size is not a whole number" + expected;
-  if (set && block_size != 1 && block_size != 3 && block_size != 6)
+  const auto& sizes = GeneralizedAlphaIntegrator::kBlockSizes;
+  if (set && std::find(sizes.begin(), sizes.end(), block_size) == sizes.end())
     return "-dyn_block_size " + std::to_string(block_size) + expected;
   return "";
 }

@@ -53,8 +53,8 @@ GeneralizedAlphaIntegrator::GeneralizedAlphaIntegrator(SystemAssembler& sa, Dyna
   const bool subdomains = ranks > 1 && !solver_chosen && !pc_chosen && !ksp_chosen && sa_.model().constraints.empty();
   int block_size = 1;
   if ((native || subdomains) && blocks)
-    for (int bs : {6, 3})
-      if (bs <= largest && sa_.uniform_blocks(bs)) {
+    for (int bs : kBlockSizes)
+      if (bs <= largest && (bs == 1 || sa_.uniform_blocks(bs))) {
         block_size = bs;
         break;
       }

@@ -8,6 +8,8 @@
 
 #include <petscts.h>
 
+#include <array>
+
 namespace latticedyn {
 
 class GeneralizedAlphaIntegrator {
@@ -20,6 +22,8 @@ class GeneralizedAlphaIntegrator {
   /// On one rank, systems of at most this many unknowns are factored dense (LAPACK); the option
   /// -dyn_dense_below N changes it (0: always the sparse direct solver).
   static constexpr int kDenseBelow = 64;
+  /// The block sizes of the matrix, largest first: -dyn_block_size takes one of them (1: none).
+  static constexpr std::array<int, 3> kBlockSizes{6, 3, 1};
 
   GeneralizedAlphaIntegrator(SystemAssembler& assembler, DynamicSettings settings);
   ~GeneralizedAlphaIntegrator();
